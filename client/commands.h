@@ -1,0 +1,17 @@
+// Subcommands of the `ctburton` executable. Each registers its options on the CLI11 app and
+// returns the process exit code when run.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace ctb::cli {
+
+using Runner = std::function<int()>;
+
+// `ctburton validate --domain NAME|PATH FILE`: exit 0 and "valid" (warnings after it) or exit 1
+// and one line per error: "<json pointer>: <offset if any>: <message>".
+Runner AddValidate(CLI::App& app);
+
+}  // namespace ctb::cli

@@ -1,0 +1,22 @@
+// ctburton: the command-line tool. Thin: every subcommand calls the libraries.
+#include <iostream>
+#include <vector>
+
+#include "client/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ctburton: natural language to verified multi-agent plans"};
+  app.require_subcommand(1);
+  std::vector<ctb::cli::Runner> runners;
+  runners.push_back(ctb::cli::AddValidate(app));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  for (auto& run : runners) {
+    int rc = run();
+    if (rc >= 0) return rc;
+  }
+  return 2;
+}
