@@ -14,4 +14,8 @@ using Runner = std::function<int()>;
 // and one line per error: "<json pointer>: <offset if any>: <message>".
 Runner AddValidate(CLI::App& app);
 
+// `ctburton solve --domain NAME|PATH FILE [...]`: the trajectory JSON on stdout, exit 0 for
+// optimal/feasible/infeasible/unknown answers; 1 bad input, 2 bad domain, 3 solver failure.
+Runner AddSolve(CLI::App& app);
+
 }  // namespace ctb::cli

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<ctb::cli::Runner> runners;
   runners.push_back(ctb::cli::AddValidate(app));
+  runners.push_back(ctb::cli::AddSolve(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

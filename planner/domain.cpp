@@ -123,6 +123,7 @@ void ReadTransition(const Json& j, const std::string& p, const Domain& d, int se
                             &info);
   if (guard) {
     t.guard = std::move(*guard);
+    t.guard_info = info;
     t.commanded = info.commands_read.count(self) > 0;
     t.command = t.commanded ? std::max(0, RequiredCommand(t.guard, self)) : 0;
   } else {

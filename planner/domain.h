@@ -7,6 +7,7 @@
 
 #include "planner/error.h"
 #include "planner/expr.h"
+#include "planner/expr_info.h"
 #include "planner/json_io.h"
 
 namespace ctb {
@@ -21,6 +22,7 @@ struct Transition {
   int to = -1;
   std::string guard_text = "true";
   Expr guard;               // checked: every atom resolved
+  ExprInfo guard_info;      // what the guard reads
   Duration duration;
   long cost = 1;
   bool controllable = false;

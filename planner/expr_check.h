@@ -8,6 +8,7 @@
 
 #include "planner/domain.h"
 #include "planner/expr.h"
+#include "planner/expr_info.h"
 
 namespace ctb {
 
@@ -21,19 +22,6 @@ struct Scope {
 enum class ExprContext {
   kGuard,      // a transition guard: only [i], only domain variables
   kCondition,  // a state-plan condition: [i], [i+1], fixed stages (with a warning)
-};
-
-// What a checked expression reads; used to classify conditions and to analyse the domain.
-struct ExprInfo {
-  bool domain_uses_i = false;      // a location/command variable at [i]
-  bool domain_uses_i1 = false;     // ... at [i+1]
-  bool uses_fixed = false;         // ... at a fixed stage
-  std::set<int> locations_read;    // automata whose location is read
-  std::set<int> commands_read;     // automata whose command is read
-  std::set<int> episodes_read;
-  std::set<int> temporals_read;
-  // A condition that reads domain variables at both [i] and [i+1] describes a change.
-  bool IsChange() const { return domain_uses_i && domain_uses_i1; }
 };
 
 // Checks e in place (filling var_kind, target, value_code). Errors and warnings go to diags at

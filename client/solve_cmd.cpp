@@ -1,0 +1,91 @@
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "client/commands.h"
+#include "planner/catalog.h"
+#include "planner/solve.h"
+
+namespace ctb::cli {
+
+namespace {
+struct SolveCliOptions {
+  std::string domain, file, config_dir, objective;
+  long time_limit_ms = 60000;
+  std::optional<int> horizon;
+  int max_horizon = 32;
+  int threads = 1;
+  std::string search = "time_order";
+  bool no_decompose = false;
+  std::string model_out;
+};
+
+void PrintError(const Error& e) {
+  std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
+  for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
+}
+
+int RunSolve(const SolveCliOptions& o) {
+  std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
+  Diagnostics dd;
+  auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
+  if (!domain) {
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
+    return 2;
+  }
+  Diagnostics diags;
+  auto json = ReadJsonFile(o.file, diags);
+  std::optional<StatePlan> sp;
+  if (json) sp = LoadStatePlan(*json, *domain, diags);
+  for (const auto& w : diags.warnings()) std::cerr << "warning: " << w.ToString() << "\n";
+  if (!sp) {
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
+    return 1;
+  }
+  SolveOptions so;
+  if (!o.objective.empty()) {
+    so.objective = ParseObjective(o.objective);
+    if (!so.objective) {
+      std::cerr << "error: unknown objective '" << o.objective << "'\n";
+      return 1;
+    }
+  }
+  so.horizon = o.horizon;
+  so.max_horizon = o.max_horizon;
+  so.time_limit_ms = o.time_limit_ms;
+  so.threads = o.threads;
+  so.search = o.search;
+  so.decompose = !o.no_decompose;
+  so.model_out = o.model_out;
+  auto result = Solve(*domain, *sp, so);
+  if (auto* e = std::get_if<Error>(&result)) {
+    PrintError(*e);
+    return e->code == ErrorCode::kInvalidInput ? 1 : 3;
+  }
+  std::cout << std::get<Json>(result).dump(2) << "\n";
+  return 0;
+}
+}  // namespace
+
+Runner AddSolve(CLI::App& app) {
+  auto o = std::make_shared<SolveCliOptions>();
+  CLI::App* sub = app.add_subcommand("solve", "Solve a state plan and print the trajectory JSON");
+  sub->add_option("--domain", o->domain, "Domain name or path")->required();
+  sub->add_option("file", o->file, "State plan JSON file")->required();
+  sub->add_option("--objective", o->objective, "cost, makespan or cost_then_makespan");
+  sub->add_option("--time-limit-ms", o->time_limit_ms, "Time limit for the whole solve")
+      ->check(CLI::Range(1L, 3600L * 1000));
+  auto* h = sub->add_option("--horizon", o->horizon, "Fixed number of events")
+                ->check(CLI::Range(0, kMaxHorizonLimit));
+  sub->add_option("--max-horizon", o->max_horizon, "Most events tried (default 32)")
+      ->check(CLI::Range(0, kMaxHorizonLimit))
+      ->excludes(h);
+  sub->add_option("--threads", o->threads, "Gecode threads")->check(CLI::Range(1, 64));
+  sub->add_option("--search", o->search, "time_order (default) or default (Gecode's own)");
+  sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
+  sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
+  sub->add_option("--config-dir", o->config_dir, "Configuration directory");
+  return [o, sub]() { return sub->parsed() ? RunSolve(*o) : -1; };
+}
+
+}  // namespace ctb::cli

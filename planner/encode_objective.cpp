@@ -1,0 +1,56 @@
+// The objective (thesis 3.6, contract section 3) and the search strategy.
+#include <string>
+
+#include "planner/encoder.h"
+
+namespace ctb::encode {
+
+// Branching in time order: for each event, which transition each automaton takes (no
+// transition first, so that shorter plans are tried first), then the event's time (earliest
+// first); then the state plan's free choices.
+std::string TimeOrderSearch(const Context& c) {
+  // The state plan's event indices first (smallest first): once they are fixed the accepting
+  // conditions and time bounds bite directly. Then transitions event by event (no transition
+  // first, so shorter plans come first); times last, by halving (given the transitions, times
+  // form a simple temporal network that propagation nearly fixes).
+  std::string idx = "[g]";
+  if (!c.sp.episodes.empty()) idx += " ++ EP_S ++ EP_E";
+  if (!c.sp.temporals.empty()) idx += " ++ TC_1 ++ TC_2";
+  std::string plan = "int_search(" + idx + ", input_order, indomain_min), ";
+  std::string xs = "int_search([X[a,k] | k in 0..H-1, a in 1..NA], input_order, indomain_min), ";
+  std::string times = "int_search(e, input_order, indomain_split)";
+  if (c.opts.search == "transitions_first") return ":: seq_search([" + xs + plan + times + "])";
+  return ":: seq_search([" + plan + xs + times + "])";
+}
+
+void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
+  std::string& o = c.out;
+  o += "% objective\n";
+  o += "var 0..MAXCOST: cost = sum(a in 1..NA, k in 0..H-1)(COST[X[a,k]]);\n";
+  o += "var 0..T: makespan = e[g];\n";
+  o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
+  std::string obj;
+  switch (c.opts.objective) {
+    case Objective::kCost:
+      obj = "cost";
+      enc.objective_cost_factor = 1;
+      enc.objective_makespan_factor = 0;
+      break;
+    case Objective::kMakespan:
+      obj = "makespan";
+      enc.objective_cost_factor = 0;
+      enc.objective_makespan_factor = 1;
+      break;
+    case Objective::kCostThenMakespan:
+      enc.objective_cost_factor = enc.time_bound + 1;
+      enc.objective_makespan_factor = 1;
+      obj = "cost * " + std::to_string(enc.objective_cost_factor) + " + makespan";
+      break;
+  }
+  o += "var int: objective = " + obj + ";\n";
+  if (c.opts.better_than) o += "constraint objective < " + std::to_string(*c.opts.better_than) + ";\n";
+  std::string search = c.opts.search == "default" ? "" : TimeOrderSearch(c);
+  o += "solve " + search + " minimize objective;\n";
+}
+
+}  // namespace ctb::encode

@@ -1,0 +1,285 @@
+#include "planner/solve.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <fstream>
+
+#include "planner/encoder.h"
+#include "planner/runner.h"
+#include "planner/trajectory.h"
+
+namespace ctb {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+long MsSince(Clock::time_point t0) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
+}
+
+// Shortest number of transitions from `from` to `to` in an automaton's graph (guards ignored),
+// or -1 when unreachable.
+int Distance(const Automaton& a, int from, int to) {
+  std::vector<int> dist(a.locations.size(), -1);
+  std::deque<int> q{from};
+  dist[from] = 0;
+  while (!q.empty()) {
+    int l = q.front();
+    q.pop_front();
+    if (l == to) return dist[l];
+    for (const auto& t : a.transitions)
+      if (t.from == l && dist[t.to] < 0) {
+        dist[t.to] = dist[l] + 1;
+        q.push_back(t.to);
+      }
+  }
+  return -1;
+}
+
+// Locations the goal requires: positive location atoms in its top-level conjunction.
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
+  if (e.op == Expr::Op::kAnd) {
+    RequiredLocations(e.kids[0], out);
+    RequiredLocations(e.kids[1], out);
+  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
+             e.index.kind != IndexKind::kFixed) {
+    out.emplace_back(e.target, e.value_code);
+  }
+}
+
+struct Plan {
+  Trajectory traj;
+  long cost = 0;
+  long makespan = 0;  // ticks
+};
+
+class Solver {
+ public:
+  Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
+      : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
+        objective_(o.objective.value_or(sp.objective)), t0_(Clock::now()) {}
+
+  std::variant<Json, Error> Run() {
+    std::string status;
+    if (o_.horizon) {
+      auto r = Attempt(*o_.horizon, std::nullopt);
+      if (error_) return *error_;
+      status = r == Outcome::kOptimal    ? "optimal"
+               : r == Outcome::kInfeasible ? "infeasible"
+               : best_                   ? "feasible"
+                                         : "unknown";
+      return Answer(status);
+    }
+    // Grow the horizon until a plan exists.
+    int h = LowerBound();
+    Outcome r = Outcome::kInfeasible;
+    while (h <= o_.max_horizon) {
+      r = Attempt(h, std::nullopt);
+      if (error_) return *error_;
+      if (r != Outcome::kInfeasible) break;
+      // A model with horizon h holds every plan with at most h events, so doubling loses
+      // nothing; the last try is max_horizon itself, which proves infeasibility.
+      if (h >= o_.max_horizon) break;
+      h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
+    }
+    if (!best_) return Answer(r == Outcome::kInfeasible ? "infeasible" : "unknown");
+    if (r != Outcome::kOptimal) return Answer("feasible");
+    // Close optimality over every plan with at most max_horizon events.
+    int need = EventsForBetter();
+    if (need <= horizon_) return Answer("optimal");
+    r = Attempt(std::min(need, o_.max_horizon), best_);
+    if (error_) return *error_;
+    return Answer(r == Outcome::kOptimal || r == Outcome::kInfeasible ? "optimal" : "feasible");
+  }
+
+ private:
+  enum class Outcome { kOptimal, kFeasible, kInfeasible, kUnknown };
+
+  // A justified lower bound on the number of events: every automaton the goal pins to a
+  // location needs at least that many transitions, each at an event of its own.
+  int LowerBound() const {
+    std::vector<std::pair<int, int>> req;
+    RequiredLocations(sp_.goal.expr, req);
+    int lb = 0;
+    for (auto [a, loc] : req) {
+      int dist = Distance(d_.automata[a], sp_.initial[a], loc);
+      if (dist > 0) lb = std::max(lb, dist);
+    }
+    return std::min(lb, o_.max_horizon);
+  }
+
+  // The most events a strictly better plan can have: each event carries a transition of cost
+  // >= min_cost. Without a positive min_cost, or for makespan, max_horizon.
+  int EventsForBetter() const {
+    if (objective_ == Objective::kMakespan || info_.min_cost <= 0) return o_.max_horizon;
+    long budget = objective_ == Objective::kCost ? best_->cost - 1 : best_->cost;
+    return static_cast<int>(std::min<long>(o_.max_horizon, budget / info_.min_cost));
+  }
+
+  std::optional<long> BetterThan(const Encoding& enc, const std::optional<Plan>& than) const {
+    if (!than) return std::nullopt;
+    return than->cost * enc.objective_cost_factor + than->makespan * enc.objective_makespan_factor;
+  }
+
+  Outcome Attempt(int h, const std::optional<Plan>& better) {
+    EncodeOptions eo;
+    eo.horizon = h;
+    eo.objective = objective_;
+    eo.search = o_.search;
+    Encoding enc = Encode(d_, sp_, info_, eo);
+    if (auto b = BetterThan(enc, better)) {
+      eo.better_than = b;
+      enc = Encode(d_, sp_, info_, eo);
+    }
+    last_model_ = enc.model;
+    last_data_ = enc.data;
+    WriteModelOut();
+    long remaining = o_.time_limit_ms - MsSince(t0_);
+    if (remaining <= 0) return Outcome::kUnknown;
+    RunRequest req;
+    req.model = enc.model;
+    req.data = enc.data;
+    req.time_limit_ms = remaining;
+    req.minizinc = o_.minizinc;
+    req.threads = o_.threads;
+    req.cancel = o_.cancel;
+    RunResult run = RunMiniZinc(req);
+    ++runs_;
+    if (run.statistics.contains("flatTime") && run.statistics["flatTime"].is_number())
+      compile_ms_ += std::lround(run.statistics["flatTime"].get<double>() * 1000);
+    if (run.statistics.contains("flatIntVars") && run.statistics["flatIntVars"].is_number())
+      variables_ = run.statistics["flatIntVars"].get<long>() +
+                   run.statistics.value("flatBoolVars", 0L);
+    if (first_solution_ms_ < 0 && run.first_solution_ms >= 0)
+      first_solution_ms_ = MsSince(t0_) - run.elapsed_ms + run.first_solution_ms;
+    if (run.status == RunResult::Status::kError) {
+      error_ = Error{ErrorCode::kInternal, "solver failure: " + run.error, {}};
+      return Outcome::kUnknown;
+    }
+    if (run.status == RunResult::Status::kCancelled) {
+      error_ = Error{ErrorCode::kUnavailable, "solve cancelled", {}};
+      return Outcome::kUnknown;
+    }
+    if (run.best) {
+      std::string why;
+      auto traj = ExtractTrajectory(*run.best, d_, sp_, h, why);
+      if (!traj) {
+        error_ = Error{ErrorCode::kInternal, "cannot read the solver's answer: " + why, {}};
+        return Outcome::kUnknown;
+      }
+      auto problems = VerifyTrajectory(*traj, d_, sp_, info_.ticks_per_second);
+      if (!problems.empty()) {
+        std::string where = SaveFailedModel();
+        Error e{ErrorCode::kInternal,
+                "internal error: the solver's plan failed independent verification (model "
+                "kept at " + where + ")", {}};
+        for (const auto& p : problems) e.details.push_back({"", std::nullopt, p});
+        error_ = e;
+        return Outcome::kUnknown;
+      }
+      Plan p{*traj, TrajectoryCost(*traj, d_), traj->events.back()};
+      best_ = p;
+      horizon_ = h;
+    }
+    switch (run.status) {
+      case RunResult::Status::kOptimal: return Outcome::kOptimal;
+      case RunResult::Status::kInfeasible: return Outcome::kInfeasible;
+      case RunResult::Status::kFeasible: return Outcome::kFeasible;
+      default: return Outcome::kUnknown;
+    }
+  }
+
+  void WriteModelOut() const {
+    if (o_.model_out.empty()) return;
+    std::ofstream(o_.model_out) << last_model_;
+    std::ofstream(o_.model_out + ".json") << last_data_.dump(1) << "\n";
+  }
+
+  std::string SaveFailedModel() const {
+    const char* base = std::getenv("TMPDIR");
+    std::string path = std::string(base && *base ? base : "/tmp") + "/ctburton-unverified-" +
+                       std::to_string(getpid()) + "-" + std::to_string(runs_) + ".mzn";
+    std::ofstream(path) << last_model_;
+    std::ofstream(path + ".json") << last_data_.dump() << "\n";
+    return path;
+  }
+
+  Json Answer(const std::string& status) const {
+    const long tps = info_.ticks_per_second;
+    Json out;
+    if (best_) out = TrajectoryToJson(best_->traj, d_, sp_, tps);
+    Json ordered;
+    ordered["status"] = status;
+    Json value;
+    if (best_) {
+      double makespan = static_cast<double>(best_->makespan) / static_cast<double>(tps);
+      switch (objective_) {
+        case Objective::kCost: value = best_->cost; break;
+        case Objective::kMakespan: value = tps == 1 ? Json(best_->makespan) : Json(makespan); break;
+        case Objective::kCostThenMakespan:
+          value = {{"cost", best_->cost}, {"makespan", tps == 1 ? Json(best_->makespan) : Json(makespan)}};
+          break;
+      }
+    }
+    ordered["objective"] = {{"kind", ObjectiveName(objective_)}, {"value", value}};
+    if (best_) {
+      ordered["cost"] = best_->cost;
+      for (auto& [k, v] : out.items()) ordered[k] = v;
+    } else {
+      ordered["horizon"] = horizon_;
+    }
+    ordered["max_horizon"] = o_.horizon ? *o_.horizon : o_.max_horizon;
+    ordered["verified"] = best_.has_value();
+    ordered["stats"] = {{"solver", "gecode"},
+                        {"compile_ms", compile_ms_},
+                        {"solve_ms", MsSince(t0_)},
+                        {"first_solution_ms", first_solution_ms_},
+                        {"variables", variables_},
+                        {"solver_runs", runs_}};
+    return ordered;
+  }
+
+  const Domain& d_;
+  const StatePlan& sp_;
+  const SolveOptions& o_;
+  ProblemInfo info_;
+  Objective objective_;
+  Clock::time_point t0_;
+  std::optional<Plan> best_;
+  int horizon_ = 0;
+  std::optional<Error> error_;
+  std::string last_model_;
+  Json last_data_;
+  int runs_ = 0;
+  long compile_ms_ = 0;
+  long variables_ = 0;
+  long first_solution_ms_ = -1;
+};
+
+}  // namespace
+
+std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
+  Diagnostics d;
+  if (o.horizon && (*o.horizon < 0 || *o.horizon > kMaxHorizonLimit))
+    d.Error("/options/horizon", "horizon must be between 0 and " + std::to_string(kMaxHorizonLimit));
+  if (o.max_horizon < 0 || o.max_horizon > kMaxHorizonLimit)
+    d.Error("/options/max_horizon", "max_horizon must be between 0 and " + std::to_string(kMaxHorizonLimit));
+  if (o.time_limit_ms < 1 || o.time_limit_ms > 3600 * 1000)
+    d.Error("/options/time_limit_ms", "time_limit_ms must be between 1 and 3,600,000");
+  if (o.threads < 1 || o.threads > 64) d.Error("/options/threads", "threads must be between 1 and 64");
+  if (o.search != "time_order" && o.search != "transitions_first" && o.search != "default")
+    d.Error("/options/search", "search must be time_order, transitions_first or default");
+  if (d.ok()) return std::nullopt;
+  return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid solve options", d);
+}
+
+std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+  if (auto e = ValidateSolveOptions(o)) return *e;
+  return Solver(d, sp, o).Run();
+}
+
+}  // namespace ctb
