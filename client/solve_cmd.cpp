@@ -15,7 +15,8 @@ struct SolveCliOptions {
   std::optional<int> horizon;
   int max_horizon = 32;
   int threads = 1;
-  std::string search = "time_order";
+  std::string search = "portfolio";
+  int portfolio = 2;
   bool no_decompose = false;
   std::string model_out;
 };
@@ -55,6 +56,7 @@ int RunSolve(const SolveCliOptions& o) {
   so.time_limit_ms = o.time_limit_ms;
   so.threads = o.threads;
   so.search = o.search;
+  so.portfolio = o.portfolio;
   so.decompose = !o.no_decompose;
   so.model_out = o.model_out;
   auto result = Solve(*domain, *sp, so);
@@ -81,7 +83,9 @@ Runner AddSolve(CLI::App& app) {
       ->check(CLI::Range(0, kMaxHorizonLimit))
       ->excludes(h);
   sub->add_option("--threads", o->threads, "Gecode threads")->check(CLI::Range(1, 64));
-  sub->add_option("--search", o->search, "time_order (default) or default (Gecode's own)");
+  sub->add_option("--search", o->search,
+                  "portfolio (default), g_first, tc_first, first_fail, transitions_first, default");
+  sub->add_option("--portfolio", o->portfolio, "Strategies run at once in portfolio mode (1-2)");
   sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");

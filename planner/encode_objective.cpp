@@ -13,21 +13,32 @@ std::string TimeOrderSearch(const Context& c) {
   // conditions and time bounds bite directly. Then transitions event by event (no transition
   // first, so shorter plans come first); times last, by halving (given the transitions, times
   // form a simple temporal network that propagation nearly fixes).
-  std::string idx = "[g]";
-  if (!c.sp.episodes.empty()) idx += " ++ EP_S ++ EP_E";
-  if (!c.sp.temporals.empty()) idx += " ++ TC_1 ++ TC_2";
-  std::string plan = "int_search(" + idx + ", input_order, indomain_min), ";
+  //   g_first:  g, episodes, temporal constraints   (closes makespan proofs fast)
+  //   tc_first: temporal constraints, episodes, g   (refutes impossible constraints fast)
+  const std::string& s = c.opts.search;
+  std::string ep = c.sp.episodes.empty() ? "" : "EP_S ++ EP_E ++ ";
+  std::string tc = c.sp.temporals.empty() ? "" : "TC_1 ++ TC_2 ++ ";
+  std::string idx = s == "g_first" ? "[g] ++ " + ep + tc + "[]" : tc + ep + "[g]";
+  std::string var_sel = s == "first_fail" ? "first_fail" : "input_order";
+  std::string plan = "int_search(" + idx + ", " + var_sel + ", indomain_min), ";
   std::string xs = "int_search([X[a,k] | k in 0..H-1, a in 1..NA], input_order, indomain_min), ";
   std::string times = "int_search(e, input_order, indomain_split)";
-  if (c.opts.search == "transitions_first") return ":: seq_search([" + xs + plan + times + "])";
+  if (s == "transitions_first") return ":: seq_search([" + xs + plan + times + "])";
   return ":: seq_search([" + plan + xs + times + "])";
 }
 
 void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
   std::string& o = c.out;
   o += "% objective\n";
-  o += "var 0..MAXCOST: cost = sum(a in 1..NA, k in 0..H-1)(COST[X[a,k]]);\n";
-  o += "var 0..T: makespan = e[g];\n";
+  // Prefix costs per automaton, with the cheapest way from each stage's location to the final
+  // one as a lower bound on what remains (an admissible cost-to-go for branch and bound).
+  o += "array[1..NA, 0..H] of var 0..MAXCOST: CS;\n";
+  o += "constraint forall(a in 1..NA)(CS[a,0] = 0);\n";
+  o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,k+1] = CS[a,k] + COST[X[a,k]]);\n";
+  o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,H] - CS[a,k] >= CDIST[a, L[a,k], L[a,H]]);"
+       "  % redundant\n";
+  o += "var 0..MAXCOST: cost = sum(a in 1..NA)(CS[a,H]);\n";
+  o += "var 0..T: makespan = e[H];  % padding events keep e[g]'s time\n";
   o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
   std::string obj;
   switch (c.opts.objective) {

@@ -103,7 +103,8 @@ void EmitHeader(const Context& c) {
   o += "array[0..NT] of int: LO;\narray[0..NT] of int: HI;\narray[0..NT] of int: COST;\n";
   o += "array[0..NT] of int: CMD;\narray[0..NT] of int: FROM;\n";
   o += "array[1..NA] of set of int: TRS;\narray[int, 1..4] of int: TAB;\n";
-  o += "array[1..NA, 0..MAXL, 0..MAXL] of int: DIST;  % min time between entering locations\n\n";
+  o += "array[1..NA, 0..MAXL, 0..MAXL] of int: DIST;  % min time between entering locations\n";
+  o += "array[1..NA, 0..MAXL, 0..MAXL] of int: CDIST;  % min cost between locations\n\n";
   o += "array[0..H] of var 0..T: e;\n";
   o += "array[1..NA, 0..H] of var 0..MAXL: L;\n";
   o += "array[1..NA, 0..H-1] of var 0..NT: X;\n";
@@ -157,27 +158,33 @@ Encoding Encode(const Domain& d, const StatePlan& sp, const ProblemInfo& info,
     }
     trs.push_back({{"set", ids}});
   }
-  // DIST: all-pairs shortest time from entering one location to entering another.
-  const long inf = enc.time_bound + 1;
-  Json dist = Json::array();
-  for (std::size_t a = 0; a < d.automata.size(); ++a) {
+  // DIST / CDIST: all-pairs shortest time from entering one location to entering another, and
+  // cheapest way between them (guards ignored: a relaxation, valid for every run).
+  const long inf = enc.time_bound + 1, cinf = max_cost * std::max(H, 1) + 1;
+  auto all_pairs = [&](std::size_t a, bool by_cost) {
     const Automaton& au = d.automata[a];
     const std::size_t n = au.locations.size();
-    std::vector<std::vector<long>> m(max_l + 1, std::vector<long>(max_l + 1, inf));
+    const long big = by_cost ? cinf : inf;
+    std::vector<std::vector<long>> m(max_l + 1, std::vector<long>(max_l + 1, big));
     for (std::size_t l = 0; l < n; ++l) m[l][l] = 0;
     for (std::size_t k = 0; k < au.transitions.size(); ++k) {
       const Transition& t = au.transitions[k];
-      m[t.from][t.to] = std::min(m[t.from][t.to], info.lo[info.transitions_of[a][k]]);
+      long w = by_cost ? t.cost : info.lo[info.transitions_of[a][k]];
+      m[t.from][t.to] = std::min(m[t.from][t.to], w);
     }
     for (std::size_t v = 0; v < n; ++v)
       for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < n; ++j)
-          m[i][j] = std::min(m[i][j], m[i][v] + m[v][j]);
+        for (std::size_t j = 0; j < n; ++j) m[i][j] = std::min(m[i][j], m[i][v] + m[v][j]);
     for (auto& row : m)
-      for (auto& x : row) x = std::min(x, inf);
-    dist.push_back(m);
+      for (auto& x : row) x = std::min(x, big);
+    return m;
+  };
+  Json dist = Json::array(), cdist = Json::array();
+  for (std::size_t a = 0; a < d.automata.size(); ++a) {
+    dist.push_back(all_pairs(a, false));
+    cdist.push_back(all_pairs(a, true));
   }
-  data = {{"H", H}, {"DIST", dist}, {"T", enc.time_bound}, {"NA", d.automata.size()}, {"NT", NT},
+  data = {{"H", H}, {"DIST", dist}, {"CDIST", cdist}, {"T", enc.time_bound}, {"NA", d.automata.size()}, {"NT", NT},
           {"MAXL", max_l}, {"MAXU", max_u}, {"MAXCOST", max_cost * std::max(H, 1)},
           {"MINCOST", info.min_cost}, {"INIT", init}, {"NLOC", nloc}, {"NCMD", ncmd},
           {"LO", lo}, {"HI", hi}, {"COST", cost}, {"CMD", cmd}, {"FROM", from}, {"TRS", trs},

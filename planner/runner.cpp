@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -62,9 +63,9 @@ struct TempDir {
 };
 
 // Kills every process whose working directory is `dir` (solver processes minizinc started in
-// groups of their own). Returns how many were signalled.
-int KillProcessesIn(const std::string& dir) {
-  int n = 0;
+// groups of their own). Returns the pids signalled.
+std::vector<pid_t> KillProcessesIn(const std::string& dir) {
+  std::vector<pid_t> killed;
   std::error_code ec;
   fs::path target = fs::weakly_canonical(dir, ec);
   for (const auto& entry : fs::directory_iterator("/proc", ec)) {
@@ -76,9 +77,9 @@ int KillProcessesIn(const std::string& dir) {
     pid_t pid = static_cast<pid_t>(std::stol(name));
     if (pid == getpid()) continue;
     kill(pid, SIGKILL);
-    ++n;
+    killed.push_back(pid);
   }
-  return n;
+  return killed;
 }
 
 bool WriteFile(const std::string& path, const std::string& text) {
@@ -237,7 +238,7 @@ RunResult RunMiniZinc(const RunRequest& req) {
     }
     if (!exited) {
       pid_t w = waitpid(pid, &wstatus, WNOHANG);
-      if (w == pid) exited = true;
+      if (w == pid || (w < 0 && errno == ECHILD)) exited = true;
     }
     if (exited && !out_open && !err_open) break;
     if (exited && termed && now >= term_time + 2 * kTermMs) break;  // pipes held by orphans
@@ -264,14 +265,16 @@ RunResult RunMiniZinc(const RunRequest& req) {
   }
   close(out_pipe[0]);
   close(err_pipe[0]);
-  // Anything left in the job directory (an orphaned fzn-gecode) is killed; reap orphans that
-  // came back to us as subreaper.
-  if (KillProcessesIn(dir.path) > 0 || r.killed) {
-    for (int i = 0; i < 20; ++i) {
-      while (waitpid(-1, nullptr, WNOHANG) > 0) {
-      }
-      usleep(10000);
+  // Anything left in the job directory (an orphaned fzn-gecode) is killed, and reaped if it
+  // came back to us as subreaper. Only those pids: other jobs' children are not ours to reap.
+  std::vector<pid_t> leftovers = KillProcessesIn(dir.path);
+  for (int i = 0; i < 50 && !leftovers.empty(); ++i) {
+    for (auto it = leftovers.begin(); it != leftovers.end();) {
+      pid_t w = waitpid(*it, nullptr, WNOHANG);
+      bool gone = w == *it || (w < 0 && errno == ECHILD);
+      it = gone ? leftovers.erase(it) : it + 1;
     }
+    if (!leftovers.empty()) usleep(10000);
   }
   lines.Finish();
   r.elapsed_ms = MsSince(t0);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <future>
 
 #include "planner/encoder.h"
 #include "planner/runner.h"
@@ -125,48 +126,96 @@ class Solver {
     return than->cost * enc.objective_cost_factor + than->makespan * enc.objective_makespan_factor;
   }
 
-  Outcome Attempt(int h, const std::optional<Plan>& better) {
-    EncodeOptions eo;
-    eo.horizon = h;
-    eo.objective = objective_;
-    eo.search = o_.search;
-    Encoding enc = Encode(d_, sp_, info_, eo);
-    if (auto b = BetterThan(enc, better)) {
-      eo.better_than = b;
-      enc = Encode(d_, sp_, info_, eo);
-    }
-    last_model_ = enc.model;
-    last_data_ = enc.data;
-    WriteModelOut();
+  std::vector<std::string> Strategies() const {
+    if (o_.search != "portfolio") return {o_.search};
+    if (o_.portfolio <= 1) return {"g_first"};
+    return {"g_first", "tc_first"};
+  }
+
+  static bool Definitive(const RunResult& r) {
+    return r.status == RunResult::Status::kOptimal || r.status == RunResult::Status::kInfeasible ||
+           r.status == RunResult::Status::kError;
+  }
+
+  // Runs every strategy at horizon h at once; the first definitive answer (proof or error)
+  // stops the others. Returns the runs in strategy order.
+  std::vector<RunResult> RunPortfolio(int h, const std::optional<Plan>& better) {
+    std::vector<std::string> strategies = Strategies();
+    std::vector<RunRequest> reqs(strategies.size());
+    std::atomic<bool> stop{false};
     long remaining = o_.time_limit_ms - MsSince(t0_);
-    if (remaining <= 0) return Outcome::kUnknown;
-    RunRequest req;
-    req.model = enc.model;
-    req.data = enc.data;
-    req.time_limit_ms = remaining;
-    req.minizinc = o_.minizinc;
-    req.threads = o_.threads;
-    req.cancel = o_.cancel;
-    RunResult run = RunMiniZinc(req);
-    ++runs_;
-    if (run.statistics.contains("flatTime") && run.statistics["flatTime"].is_number())
-      compile_ms_ += std::lround(run.statistics["flatTime"].get<double>() * 1000);
-    if (run.statistics.contains("flatIntVars") && run.statistics["flatIntVars"].is_number())
-      variables_ = run.statistics["flatIntVars"].get<long>() +
-                   run.statistics.value("flatBoolVars", 0L);
-    if (first_solution_ms_ < 0 && run.first_solution_ms >= 0)
-      first_solution_ms_ = MsSince(t0_) - run.elapsed_ms + run.first_solution_ms;
-    if (run.status == RunResult::Status::kError) {
-      error_ = Error{ErrorCode::kInternal, "solver failure: " + run.error, {}};
-      return Outcome::kUnknown;
+    for (std::size_t i = 0; i < strategies.size(); ++i) {
+      EncodeOptions eo;
+      eo.horizon = h;
+      eo.objective = objective_;
+      eo.search = strategies[i];
+      Encoding enc = Encode(d_, sp_, info_, eo);
+      if (auto b = BetterThan(enc, better)) {
+        eo.better_than = b;
+        enc = Encode(d_, sp_, info_, eo);
+      }
+      if (i == 0) {
+        last_model_ = enc.model;
+        last_data_ = enc.data;
+        WriteModelOut();
+      }
+      reqs[i].model = std::move(enc.model);
+      reqs[i].data = std::move(enc.data);
+      reqs[i].time_limit_ms = remaining;
+      reqs[i].minizinc = o_.minizinc;
+      reqs[i].threads = o_.threads;
+      reqs[i].cancel = &stop;
     }
-    if (run.status == RunResult::Status::kCancelled) {
+    std::vector<std::future<RunResult>> futures;
+    for (auto& r : reqs)
+      futures.push_back(std::async(std::launch::async, [&r] { return RunMiniZinc(r); }));
+    std::vector<std::optional<RunResult>> done(futures.size());
+    std::size_t finished = 0;
+    while (finished < futures.size()) {
+      for (std::size_t i = 0; i < futures.size(); ++i) {
+        if (done[i] || futures[i].wait_for(std::chrono::milliseconds(10)) != std::future_status::ready)
+          continue;
+        done[i] = futures[i].get();
+        ++finished;
+        if (Definitive(*done[i])) stop = true;
+      }
+      if (o_.cancel && o_.cancel->load()) stop = true;
+    }
+    std::vector<RunResult> out;
+    for (auto& r : done) out.push_back(std::move(*r));
+    runs_ += static_cast<int>(out.size());
+    return out;
+  }
+
+  Outcome Attempt(int h, const std::optional<Plan>& better) {
+    if (o_.time_limit_ms - MsSince(t0_) <= 0) return Outcome::kUnknown;
+    const long started = MsSince(t0_);
+    std::vector<RunResult> runs = RunPortfolio(h, better);
+    // Statistics from the first strategy's model (they all flatten the same constraints).
+    const RunResult& r0 = runs[0];
+    if (r0.statistics.contains("flatTime") && r0.statistics["flatTime"].is_number())
+      compile_ms_ += std::lround(r0.statistics["flatTime"].get<double>() * 1000);
+    if (r0.statistics.contains("flatIntVars") && r0.statistics["flatIntVars"].is_number())
+      variables_ = r0.statistics["flatIntVars"].get<long>() + r0.statistics.value("flatBoolVars", 0L);
+    for (const auto& r : runs)
+      if (first_solution_ms_ < 0 && r.first_solution_ms >= 0)
+        first_solution_ms_ = started + r.first_solution_ms;
+    if (o_.cancel && o_.cancel->load()) {
       error_ = Error{ErrorCode::kUnavailable, "solve cancelled", {}};
       return Outcome::kUnknown;
     }
-    if (run.best) {
+    const RunResult* decided = nullptr;
+    for (const auto& r : runs)
+      if (Definitive(r) && !decided) decided = &r;
+    if (decided && decided->status == RunResult::Status::kError) {
+      error_ = Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
+      return Outcome::kUnknown;
+    }
+    // Keep the best verified solution of any run.
+    for (const auto& r : runs) {
+      if (!r.best) continue;
       std::string why;
-      auto traj = ExtractTrajectory(*run.best, d_, sp_, h, why);
+      auto traj = ExtractTrajectory(*r.best, d_, sp_, h, why);
       if (!traj) {
         error_ = Error{ErrorCode::kInternal, "cannot read the solver's answer: " + why, {}};
         return Outcome::kUnknown;
@@ -182,15 +231,26 @@ class Solver {
         return Outcome::kUnknown;
       }
       Plan p{*traj, TrajectoryCost(*traj, d_), traj->events.back()};
-      best_ = p;
-      horizon_ = h;
+      if (!best_ || Better(p, *best_)) {
+        best_ = p;
+        horizon_ = h;
+      }
     }
-    switch (run.status) {
-      case RunResult::Status::kOptimal: return Outcome::kOptimal;
-      case RunResult::Status::kInfeasible: return Outcome::kInfeasible;
-      case RunResult::Status::kFeasible: return Outcome::kFeasible;
-      default: return Outcome::kUnknown;
+    if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
+                                                                        : Outcome::kInfeasible;
+    for (const auto& r : runs)
+      if (r.status == RunResult::Status::kFeasible) return Outcome::kFeasible;
+    return Outcome::kUnknown;
+  }
+
+  bool Better(const Plan& a, const Plan& b) const {
+    switch (objective_) {
+      case Objective::kCost: return a.cost < b.cost;
+      case Objective::kMakespan: return a.makespan < b.makespan;
+      case Objective::kCostThenMakespan:
+        return a.cost < b.cost || (a.cost == b.cost && a.makespan < b.makespan);
     }
+    return false;
   }
 
   void WriteModelOut() const {
@@ -271,8 +331,14 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   if (o.time_limit_ms < 1 || o.time_limit_ms > 3600 * 1000)
     d.Error("/options/time_limit_ms", "time_limit_ms must be between 1 and 3,600,000");
   if (o.threads < 1 || o.threads > 64) d.Error("/options/threads", "threads must be between 1 and 64");
-  if (o.search != "time_order" && o.search != "transitions_first" && o.search != "default")
-    d.Error("/options/search", "search must be time_order, transitions_first or default");
+  static const char* const kSearches[] = {"portfolio", "g_first", "tc_first", "first_fail",
+                                          "transitions_first", "default"};
+  bool known = false;
+  for (const char* s : kSearches) known = known || o.search == s;
+  if (!known)
+    d.Error("/options/search", "search must be portfolio, g_first, tc_first, first_fail, "
+                               "transitions_first or default");
+  if (o.portfolio < 1 || o.portfolio > 2) d.Error("/options/portfolio", "portfolio must be 1 or 2");
   if (d.ok()) return std::nullopt;
   return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid solve options", d);
 }

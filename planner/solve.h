@@ -27,7 +27,10 @@ struct SolveOptions {
   std::string minizinc = "minizinc";
   int threads = 1;
   bool decompose = true;               // solve independent parts separately and merge
-  std::string search = "time_order";   // or "default" (Gecode's own)
+  // "portfolio" runs `portfolio` strategies at once (one core each) and keeps the first proof;
+  // or one strategy: g_first, tc_first, first_fail, transitions_first, default (Gecode's own).
+  std::string search = "portfolio";
+  int portfolio = 2;
   std::string model_out;               // when set, the last model is written here (+ .json data)
   const std::atomic<bool>* cancel = nullptr;
 };
