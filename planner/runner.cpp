@@ -156,7 +156,9 @@ RunResult RunMiniZinc(const RunRequest& req) {
     return r;
   }
   const std::string model = dir.path + "/model.mzn", data = dir.path + "/data.json";
-  if (!WriteFile(model, req.model) || !WriteFile(data, req.data.dump())) {
+  // MiniZinc 2.6.4 cannot parse an empty JSON object as data: pass no data file then.
+  const bool has_data = !(req.data.is_null() || (req.data.is_object() && req.data.empty()));
+  if (!WriteFile(model, req.model) || (has_data && !WriteFile(data, req.data.dump()))) {
     r.error = "cannot write the solver's input files";
     return r;
   }
@@ -171,7 +173,7 @@ RunResult RunMiniZinc(const RunRequest& req) {
     args.push_back(std::to_string(req.threads));
   }
   args.push_back(model);
-  args.push_back(data);
+  if (has_data) args.push_back(data);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

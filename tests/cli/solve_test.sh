@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Black-box test of `ctburton solve`: JSON on stdout, exit codes, --model-out.
+set -u
+BIN=$1
+SRC=$2
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+cd "$SRC"
+fail=0
+ok() { echo "ok   $1"; }
+bad() { echo "FAIL $1"; fail=$((fail + 1)); }
+
+"$BIN" solve --domain presentation config/examples/presentation/test1_cot.json \
+  --objective makespan --model-out "$T/model.mzn" > "$T/out.json" 2> "$T/err.txt"
+rc=$?
+if [ $rc = 0 ] && python3 - "$T/out.json" <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))
+assert t["status"] == "optimal", t["status"]
+assert t["verified"] is True
+assert t["goal_reached_at"] == 2430
+assert t["events"][0] == 0
+PY
+then ok "solve prints a verified trajectory"; else bad "solve prints a verified trajectory (rc=$rc)"; cat "$T/err.txt"; fi
+
+if [ -s "$T/model.mzn" ] && [ -s "$T/model.mzn.json" ] && ! grep -q "projOn" "$T/model.mzn"; then
+  ok "--model-out writes the model and its data, with no input names"
+else bad "--model-out"; fi
+
+echo '{"initial_state": {}}' > "$T/bad.json"
+"$BIN" solve --domain presentation "$T/bad.json" > /dev/null 2> "$T/err.txt"
+rc=$?
+if [ $rc = 1 ] && grep -q "^/end_state: missing required field" "$T/err.txt"; then ok "bad state plan exits 1"
+else bad "bad state plan exits 1 (rc=$rc)"; cat "$T/err.txt"; fi
+
+"$BIN" solve --domain presentation config/examples/presentation/test1_cot.json --horizon 100000 \
+  > /dev/null 2>&1 && bad "absurd horizon rejected" || ok "absurd horizon rejected"
+
+"$BIN" solve --domain nosuch config/examples/presentation/test1_cot.json > /dev/null 2> "$T/err.txt"
+rc=$?
+if [ $rc = 2 ] && grep -q "unknown domain 'nosuch'" "$T/err.txt"; then ok "unknown domain exits 2"
+else bad "unknown domain exits 2 (rc=$rc)"; fi
+
+echo "$((fail == 0 ? 1 : 0)) passed, $fail failed"
+[ "$fail" = 0 ]
