@@ -38,3 +38,28 @@ bool Evaluate(const Expr& e, const std::function<int(const Expr& atom)>& value_o
 }
 
 }  // namespace ctb
+
+namespace ctb {
+
+std::string PrintSource(const Expr& e) {
+  switch (e.op) {
+    case Expr::Op::kTrue: return "true";
+    case Expr::Op::kFalse: return "false";
+    case Expr::Op::kAtom: {
+      std::string idx = e.index.kind == IndexKind::kI       ? "i"
+                        : e.index.kind == IndexKind::kIPlus1 ? "i+1"
+                                                             : std::to_string(e.index.fixed);
+      return e.var + "[" + idx + "]" + (e.not_equal ? "!=" : "==") + e.value;
+    }
+    case Expr::Op::kNot: return "not (" + PrintSource(e.kids[0]) + ")";
+    default: {
+      const char* op = e.op == Expr::Op::kAnd       ? " /\\ "
+                       : e.op == Expr::Op::kOr      ? " \\/ "
+                       : e.op == Expr::Op::kImplies ? " -> "
+                                                    : " <-> ";
+      return "(" + PrintSource(e.kids[0]) + op + PrintSource(e.kids[1]) + ")";
+    }
+  }
+}
+
+}  // namespace ctb

@@ -20,3 +20,11 @@ std::string PrintMiniZinc(const Expr& e, const VarPrinter& var);
 bool Evaluate(const Expr& e, const std::function<int(const Expr& atom)>& value_of);
 
 }  // namespace ctb
+
+namespace ctb {
+
+// Prints a parsed expression back in the expression language (names as written), fully
+// parenthesized. Parsing the result gives the same tree.
+std::string PrintSource(const Expr& e);
+
+}  // namespace ctb

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <map>
 #include <future>
 
+#include "planner/decompose.h"
 #include "planner/encoder.h"
 #include "planner/runner.h"
 #include "planner/trajectory.h"
@@ -58,43 +60,55 @@ struct Plan {
   long makespan = 0;  // ticks
 };
 
+// What one solve found, before it is turned into the answer JSON.
+struct Core {
+  std::string status = "unknown";
+  std::optional<Plan> best;
+  int horizon = 0;
+  int runs = 0;
+  long compile_ms = 0;
+  long variables = 0;
+  long first_solution_ms = -1;
+  std::optional<Error> error;
+};
+
 class Solver {
  public:
   Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
         objective_(o.objective.value_or(sp.objective)), t0_(Clock::now()) {}
 
-  std::variant<Json, Error> Run() {
+  Core Run() {
     std::string status;
     if (o_.horizon) {
       auto r = Attempt(*o_.horizon, std::nullopt);
-      if (error_) return *error_;
+      if (error_) return Fail();
       status = r == Outcome::kOptimal    ? "optimal"
                : r == Outcome::kInfeasible ? "infeasible"
                : best_                   ? "feasible"
                                          : "unknown";
-      return Answer(status);
+      return Finish(status);
     }
     // Grow the horizon until a plan exists.
     int h = LowerBound();
     Outcome r = Outcome::kInfeasible;
     while (h <= o_.max_horizon) {
       r = Attempt(h, std::nullopt);
-      if (error_) return *error_;
+      if (error_) return Fail();
       if (r != Outcome::kInfeasible) break;
       // A model with horizon h holds every plan with at most h events, so doubling loses
       // nothing; the last try is max_horizon itself, which proves infeasibility.
       if (h >= o_.max_horizon) break;
       h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
     }
-    if (!best_) return Answer(r == Outcome::kInfeasible ? "infeasible" : "unknown");
-    if (r != Outcome::kOptimal) return Answer("feasible");
+    if (!best_) return Finish(r == Outcome::kInfeasible ? "infeasible" : "unknown");
+    if (r != Outcome::kOptimal) return Finish("feasible");
     // Close optimality over every plan with at most max_horizon events.
     int need = EventsForBetter();
-    if (need <= horizon_) return Answer("optimal");
+    if (need <= horizon_) return Finish("optimal");
     r = Attempt(std::min(need, o_.max_horizon), best_);
-    if (error_) return *error_;
-    return Answer(r == Outcome::kOptimal || r == Outcome::kInfeasible ? "optimal" : "feasible");
+    if (error_) return Fail();
+    return Finish(r == Outcome::kOptimal || r == Outcome::kInfeasible ? "optimal" : "feasible");
   }
 
  private:
@@ -268,39 +282,21 @@ class Solver {
     return path;
   }
 
-  Json Answer(const std::string& status) const {
-    const long tps = info_.ticks_per_second;
-    Json out;
-    if (best_) out = TrajectoryToJson(best_->traj, d_, sp_, tps);
-    Json ordered;
-    ordered["status"] = status;
-    Json value;
-    if (best_) {
-      double makespan = static_cast<double>(best_->makespan) / static_cast<double>(tps);
-      switch (objective_) {
-        case Objective::kCost: value = best_->cost; break;
-        case Objective::kMakespan: value = tps == 1 ? Json(best_->makespan) : Json(makespan); break;
-        case Objective::kCostThenMakespan:
-          value = {{"cost", best_->cost}, {"makespan", tps == 1 ? Json(best_->makespan) : Json(makespan)}};
-          break;
-      }
-    }
-    ordered["objective"] = {{"kind", ObjectiveName(objective_)}, {"value", value}};
-    if (best_) {
-      ordered["cost"] = best_->cost;
-      for (auto& [k, v] : out.items()) ordered[k] = v;
-    } else {
-      ordered["horizon"] = horizon_;
-    }
-    ordered["max_horizon"] = o_.horizon ? *o_.horizon : o_.max_horizon;
-    ordered["verified"] = best_.has_value();
-    ordered["stats"] = {{"solver", "gecode"},
-                        {"compile_ms", compile_ms_},
-                        {"solve_ms", MsSince(t0_)},
-                        {"first_solution_ms", first_solution_ms_},
-                        {"variables", variables_},
-                        {"solver_runs", runs_}};
-    return ordered;
+  Core Finish(const std::string& status) const {
+    Core c;
+    c.status = status;
+    c.best = best_;
+    c.horizon = horizon_;
+    c.runs = runs_;
+    c.compile_ms = compile_ms_;
+    c.variables = variables_;
+    c.first_solution_ms = first_solution_ms_;
+    return c;
+  }
+  Core Fail() const {
+    Core c = Finish("unknown");
+    c.error = error_;
+    return c;
   }
 
   const Domain& d_;
@@ -319,6 +315,109 @@ class Solver {
   long variables_ = 0;
   long first_solution_ms_ = -1;
 };
+
+Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
+                int max_horizon, long elapsed_ms, const Json& extra_stats) {
+  const long tps = std::lround(1.0 / d.time_resolution);
+  Json out;
+  out["status"] = c.status;
+  auto seconds = [&](long ticks) {
+    return tps == 1 ? Json(ticks) : Json(static_cast<double>(ticks) / static_cast<double>(tps));
+  };
+  Json value;
+  if (c.best) {
+    switch (objective) {
+      case Objective::kCost: value = c.best->cost; break;
+      case Objective::kMakespan: value = seconds(c.best->makespan); break;
+      case Objective::kCostThenMakespan:
+        value = {{"cost", c.best->cost}, {"makespan", seconds(c.best->makespan)}};
+        break;
+    }
+  }
+  out["objective"] = {{"kind", ObjectiveName(objective)}, {"value", value}};
+  if (c.best) {
+    out["cost"] = c.best->cost;
+    Json traj = TrajectoryToJson(c.best->traj, d, sp, tps);
+    for (auto& [k, v] : traj.items()) out[k] = v;
+  } else {
+    out["horizon"] = c.horizon;
+  }
+  out["max_horizon"] = max_horizon;
+  out["verified"] = c.best.has_value();
+  out["stats"] = {{"solver", "gecode"},
+                  {"compile_ms", c.compile_ms},
+                  {"solve_ms", elapsed_ms},
+                  {"first_solution_ms", c.first_solution_ms},
+                  {"variables", c.variables},
+                  {"solver_runs", c.runs}};
+  for (auto& [k, v] : extra_stats.items()) out["stats"][k] = v;
+  return out;
+}
+
+// Solves the parts one after the other (identical parts once: their encodings are equal, names
+// never reach a model), merges and verifies. nullopt: fall back to one model.
+std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
+                               const std::vector<SubProblem>& parts, const SolveOptions& o,
+                               Objective objective, Clock::time_point t0, Json& stats) {
+  SolveOptions po = o;
+  po.decompose = false;
+  po.objective = objective;
+  po.model_out.clear();
+  std::vector<Trajectory> plans;
+  std::map<std::string, Core> solved;  // encoding -> result
+  Core total;
+  total.status = "optimal";
+  int reused = 0;
+  for (const auto& part : parts) {
+    EncodeOptions eo;
+    eo.horizon = 4;
+    eo.objective = objective;
+    ProblemInfo info = Analyze(part.domain, part.plan);
+    Encoding enc = Encode(part.domain, part.plan, info, eo);
+    std::string key = enc.model + enc.data.dump();
+    Core c;
+    if (auto it = solved.find(key); it != solved.end() && o.reuse_identical_parts) {
+      c = it->second;
+      ++reused;
+    } else {
+      po.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
+      c = Solver(part.domain, part.plan, po).Run();
+      if (c.error) return c;
+      solved[key] = c;
+      total.runs += c.runs;
+      total.compile_ms += c.compile_ms;
+      total.variables += c.variables;
+    }
+    if (c.status == "infeasible") {
+      total.status = "infeasible";
+      total.best.reset();
+      return total;
+    }
+    if (!c.best) {
+      total.status = "unknown";
+      return total;
+    }
+    if (c.status != "optimal") total.status = "feasible";
+    plans.push_back(c.best->traj);
+  }
+  Trajectory merged = MergeTrajectories(parts, plans, d, sp);
+  const int limit = o.horizon ? *o.horizon : o.max_horizon;
+  stats["parts"] = parts.size();
+  stats["parts_reused"] = reused;
+  if (merged.goal_event > limit) {
+    stats["merge"] = "too many events";
+    return std::nullopt;
+  }
+  auto problems = VerifyTrajectory(merged, d, sp, std::lround(1.0 / d.time_resolution));
+  if (!problems.empty()) {
+    stats["merge"] = "failed verification: " + problems[0];
+    return std::nullopt;
+  }
+  total.best = Plan{merged, TrajectoryCost(merged, d), merged.events.back()};
+  total.horizon = merged.goal_event;
+  total.first_solution_ms = MsSince(t0);
+  return total;
+}
 
 }  // namespace
 
@@ -345,7 +444,23 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
 
 std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   if (auto e = ValidateSolveOptions(o)) return *e;
-  return Solver(d, sp, o).Run();
+  const auto t0 = Clock::now();
+  const Objective objective = o.objective.value_or(sp.objective);
+  const int max_h = o.horizon ? *o.horizon : o.max_horizon;
+  Json stats = Json::object();
+  if (o.decompose) {
+    std::vector<SubProblem> parts = SplitProblem(d, sp);
+    if (parts.size() > 1) {
+      auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
+      if (c && c->error) return *c->error;
+      if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats);
+    }
+  }
+  SolveOptions mono = o;
+  mono.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
+  Core c = Solver(d, sp, mono).Run();
+  if (c.error) return *c.error;
+  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats);
 }
 
 }  // namespace ctb

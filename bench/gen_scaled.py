@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Writes the benchmark problems into OUTDIR:
+  presentation_xN.json + presentation_xN_plan.json  (thesis Table 5.1: N copies of each automaton,
+      each copy with the thesis' test prompt 1 constraints, chain-of-thought version)
+  search_rescue_rN.json + search_rescue_rN_plan.json (N robots, N persons: robot k rescues person k)
+"""
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tools"))
+import gen_domains  # noqa: E402
+
+
+def presentation_plan(n):
+    init, goal, eps, tcs = {}, [], {}, {}
+    for k in range(1, n + 1):
+        s = "" if n == 1 else str(k)
+        comp, conn, proj = "comp" + s, "conn" + s, "proj" + s
+        init.update({comp: "compOff", conn: "disconnected", proj: "projOff"})
+        goal += [f"{comp}l[i+1]==compOff", f"{conn}l[i+1]==disconnected", f"{proj}l[i+1]==projOff"]
+        eps[f"ProjectorOnDuration{s}"] = {
+            "accepting_constraint": f"{proj}l[i]==projOn", "state_constraint": f"{proj}l[i]==projOn",
+            "lower_bound": 1800, "upper_bound": 1800}
+        tcs[f"ShutdownWithin600{s}"] = {
+            "accepting_event1_constraint": f"{proj}l[i]==projOn /\\ {proj}l[i+1]==projConfirm",
+            "accepting_event2_constraint": f"{proj}l[i+1]==projOff /\\ {conn}l[i+1]==disconnected /\\ "
+                                           f"{comp}l[i+1]==compOff /\\ "
+                                           f"temporalAcceptConstraint_Traj_ShutdownWithin600{s}[i]==tempActive",
+            "lower_bound": 600, "upper_bound": 600}
+        tcs[f"ProjectorOnWithin60{s}"] = {
+            "accepting_event1_constraint": f"{proj}l[i]==projOff /\\ {proj}l[i+1]==projWarmUp",
+            "accepting_event2_constraint": f"{proj}l[i+1]==projOn",
+            "lower_bound": 0, "upper_bound": 60}
+    return {"initial_state": init,
+            "end_state": {"maintenance_constraint": "true", "goal_constraint": " /\\ ".join(goal)},
+            "constraints": {"episodes": eps, "temporal": tcs, "event": {}}}
+
+
+def rescue_plan(n):
+    init = {f"robot{r}": "outside" for r in range(1, n + 1)}
+    init.update({"door1": "closed", "door2": "closed", "door3": "open"})
+    goal = " /\\ ".join(f"robot{r}[i+1]==rescuedPerson{r}" for r in range(1, n + 1))
+    return {"initial_state": init, "end_state": {"maintenance_constraint": "true", "goal_constraint": goal}}
+
+
+def main(out):
+    os.makedirs(out, exist_ok=True)
+    for n in (1, 2, 4, 8, 16):
+        dom = gen_domains.presentation(n)
+        dom["name"] = f"presentation_x{n}"
+        json.dump(dom, open(f"{out}/presentation_x{n}.json", "w"), indent=1)
+        json.dump(presentation_plan(n), open(f"{out}/presentation_x{n}_plan.json", "w"), indent=1)
+    for n in (2, 3, 4):
+        dom = gen_domains.search_rescue(n)
+        dom["name"] = f"search_rescue_r{n}"
+        json.dump(dom, open(f"{out}/search_rescue_r{n}.json", "w"), indent=1)
+        json.dump(rescue_plan(n), open(f"{out}/search_rescue_r{n}_plan.json", "w"), indent=1)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "bench/problems")
