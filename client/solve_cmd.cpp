@@ -18,6 +18,8 @@ struct SolveCliOptions {
   std::string search = "portfolio";
   int portfolio = 2;
   bool no_decompose = false;
+  bool no_reuse = false;
+  bool no_redundant = false;
   std::string model_out;
 };
 
@@ -58,6 +60,8 @@ int RunSolve(const SolveCliOptions& o) {
   so.search = o.search;
   so.portfolio = o.portfolio;
   so.decompose = !o.no_decompose;
+  so.reuse_identical_parts = !o.no_reuse;
+  so.redundant = !o.no_redundant;
   so.model_out = o.model_out;
   auto result = Solve(*domain, *sp, so);
   if (auto* e = std::get_if<Error>(&result)) {
@@ -87,6 +91,8 @@ Runner AddSolve(CLI::App& app) {
                   "portfolio (default), g_first, tc_first, first_fail, transitions_first, default");
   sub->add_option("--portfolio", o->portfolio, "Strategies run at once in portfolio mode (1-2)");
   sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
+  sub->add_flag("--no-reuse", o->no_reuse, "Solve identical parts again (benchmarks)");
+  sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
   return [o, sub]() { return sub->parsed() ? RunSolve(*o) : -1; };

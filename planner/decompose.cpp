@@ -44,6 +44,8 @@ void Reads(const Expr& e, ExprInfo& info) {
 
 std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
   if (sp.maintenance.expr.op != Expr::Op::kTrue) return {};
+  // Splitting a change condition's conjuncts would turn each into a state condition.
+  if (sp.goal.info.IsChange()) return {};
   const int na = static_cast<int>(d.automata.size());
   const int ne = static_cast<int>(sp.episodes.size()), nq = static_cast<int>(sp.temporals.size());
   std::vector<const Expr*> goal;

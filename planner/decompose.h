@@ -21,8 +21,8 @@ struct SubProblem {
 };
 
 // Splits d/sp into independent parts. Returns fewer than two parts (meaning: do not split)
-// when everything is linked, the maintenance constraint is not "true", or the goal links the
-// parts otherwise than by a top-level conjunction.
+// when everything is linked, the maintenance constraint is not "true", the goal is a change
+// condition, or the goal links the parts otherwise than by a top-level conjunction.
 std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp);
 
 // Merges the parts' plans: events are ordered by time, and the j-th event at a time point of

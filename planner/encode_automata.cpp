@@ -41,7 +41,8 @@ void EmitLocationUpdate(const Context& c) {
   o += "constraint forall(a in 1..NA, k in 0..H-1)(e[k+1] - N[a,k] >= LO[X[a,k]] /\\ "
        "e[k+1] - N[a,k] <= HI[X[a,k]]);\n";
   o += "constraint forall(a in 1..NA, k in 0..H-1)(X[a,k] > 0 -> L[a,k] = FROM[X[a,k]]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H)(N[a,k] <= e[k]);  % redundant\n";
+  if (c.opts.redundant)
+    o += "constraint forall(a in 1..NA, k in 0..H)(N[a,k] <= e[k]);  % redundant\n";
 }
 
 // A transition fires only when its guard holds on the stage before the event.
@@ -149,7 +150,7 @@ void EmitAutomata(const Context& c) {
   EmitCommands(c);
   EmitAutomatic(c);
   EmitConcise(c);
-  EmitTimeDistances(c);
+  if (c.opts.redundant) EmitTimeDistances(c);
   c.out += "\n";
 }
 

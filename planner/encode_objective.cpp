@@ -35,11 +35,13 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
   o += "array[1..NA, 0..H] of var 0..MAXCOST: CS;\n";
   o += "constraint forall(a in 1..NA)(CS[a,0] = 0);\n";
   o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,k+1] = CS[a,k] + COST[X[a,k]]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,H] - CS[a,k] >= CDIST[a, L[a,k], L[a,H]]);"
-       "  % redundant\n";
+  if (c.opts.redundant)
+    o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,H] - CS[a,k] >= CDIST[a, L[a,k], "
+         "L[a,H]]);  % redundant\n";
   o += "var 0..MAXCOST: cost = sum(a in 1..NA)(CS[a,H]);\n";
   o += "var 0..T: makespan = e[H];  % padding events keep e[g]'s time\n";
-  o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
+  if (c.opts.redundant)
+    o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
   std::string obj;
   switch (c.opts.objective) {
     case Objective::kCost:

@@ -46,6 +46,9 @@ struct EncodeOptions {
   std::optional<long> better_than;
   // Search strategy (see encode_objective.cpp); "default" leaves it to Gecode.
   std::string search = "g_first";
+  // The redundant constraints (entry <= event time, minimum time between locations, cost-to-go,
+  // cost >= events); off only to measure what they bring (bench/).
+  bool redundant = true;
 };
 
 struct Encoding {

@@ -163,6 +163,7 @@ class Solver {
       eo.horizon = h;
       eo.objective = objective_;
       eo.search = strategies[i];
+      eo.redundant = o_.redundant;
       Encoding enc = Encode(d_, sp_, info_, eo);
       if (auto b = BetterThan(enc, better)) {
         eo.better_than = b;

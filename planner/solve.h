@@ -28,6 +28,7 @@ struct SolveOptions {
   int threads = 1;
   bool decompose = true;               // solve independent parts separately and merge
   bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
+  bool redundant = true;               // the encoder's redundant constraints (bench only)
   // "portfolio" runs `portfolio` strategies at once (one core each) and keeps the first proof;
   // or one strategy: g_first, tc_first, first_fail, transitions_first, default (Gecode's own).
   std::string search = "portfolio";
