@@ -18,4 +18,9 @@ Runner AddValidate(CLI::App& app);
 // optimal/feasible/infeasible/unknown answers; 1 bad input, 2 bad domain, 3 solver failure.
 Runner AddSolve(CLI::App& app);
 
+// `ctburton translate --domain NAME "command" [--prompting cot|direct]`: prints
+// {"state_plan", "reasoning"}; 1 bad input, 3 LLM endpoint missing/failed/timed out, 4 the
+// answer could not be repaired.
+Runner AddTranslate(CLI::App& app);
+
 }  // namespace ctb::cli

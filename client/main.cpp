@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   std::vector<ctb::cli::Runner> runners;
   runners.push_back(ctb::cli::AddValidate(app));
   runners.push_back(ctb::cli::AddSolve(app));
+  runners.push_back(ctb::cli::AddTranslate(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

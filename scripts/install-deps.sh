@@ -7,6 +7,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev
   minizinc libgecode-dev
+  libcurl4-openssl-dev libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

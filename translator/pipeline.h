@@ -1,0 +1,53 @@
+// Natural language to a checked state plan (contract section 7, thesis chapter 4).
+//
+// Chain of thought (default): the LLM first extracts initial state, end state, episodes and
+// temporal constraints as text, then maps that text to the JSON. Direct: the JSON at once. The
+// answer's JSON is found (code fences, prose around it), parsed strictly and checked against the
+// domain; errors (and fixed-index warnings) go back in a repair request quoting them verbatim,
+// at most max_repairs times; then kUnprocessable with every remaining error.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "planner/domain.h"
+#include "translator/llm.h"
+
+namespace ctb {
+
+enum class Prompting { kCot, kDirect };
+std::optional<Prompting> ParsePrompting(const std::string& s);
+
+struct TranslateOptions {
+  Prompting prompting = Prompting::kCot;
+  int max_repairs = 2;
+  bool json_mode = false;
+  std::string prompts_dir;  // empty: DefaultPromptsDir()
+  // A follow-up in a dialogue: the previous exchange and the state plan to edit.
+  std::vector<ChatMessage> history;
+  std::optional<Json> previous_state_plan;
+};
+
+struct TranslateResult {
+  Json state_plan;
+  std::string reasoning;
+  int llm_calls = 0;
+  int repairs = 0;
+  std::vector<Diagnostic> warnings;
+  std::vector<ChatMessage> conversation;  // for follow-ups
+};
+
+std::string DefaultPromptsDir();
+
+// The compact description of a domain given to the LLM, generated from its JSON.
+std::string DescribeDomain(const Domain& d);
+
+// The JSON object in an answer: a ```json fence, else the outermost {...}; nullopt when none.
+std::optional<std::string> FindJson(const std::string& answer);
+
+std::variant<TranslateResult, Error> Translate(const Domain& d, const std::string& command,
+                                               LlmClient& llm, const TranslateOptions& o);
+
+}  // namespace ctb
