@@ -114,15 +114,36 @@ class Solver {
  private:
   enum class Outcome { kOptimal, kFeasible, kInfeasible, kUnknown };
 
-  // A justified lower bound on the number of events: every automaton the goal pins to a
-  // location needs at least that many transitions, each at an event of its own.
+  // A justified lower bound on the number of events: an automaton takes at least as many
+  // transitions as the shortest way from its initial location through a location some episode
+  // or temporal constraint needs (a positive location atom of a top-level conjunction) to the
+  // location the goal pins it to, and each transition is at an event of its own.
   int LowerBound() const {
+    const std::size_t na = d_.automata.size();
+    std::vector<int> final_loc(na, -1);
     std::vector<std::pair<int, int>> req;
     RequiredLocations(sp_.goal.expr, req);
+    for (auto [a, loc] : req) final_loc[a] = loc;
+    std::vector<std::pair<int, int>> visits;
+    for (const auto& e : sp_.episodes) RequiredLocations(e.accepting.expr, visits);
+    for (const auto& t : sp_.temporals) {
+      RequiredLocations(t.event1.expr, visits);
+      RequiredLocations(t.event2.expr, visits);
+    }
     int lb = 0;
-    for (auto [a, loc] : req) {
-      int dist = Distance(d_.automata[a], sp_.initial[a], loc);
-      if (dist > 0) lb = std::max(lb, dist);
+    for (std::size_t a = 0; a < na; ++a) {
+      const Automaton& au = d_.automata[a];
+      const int init = sp_.initial[a];
+      auto via = [&](int v) {
+        int d1 = Distance(au, init, v);
+        if (d1 < 0) return 0;
+        if (final_loc[a] < 0) return d1;
+        int d2 = Distance(au, v, final_loc[a]);
+        return d2 < 0 ? d1 : d1 + d2;
+      };
+      if (final_loc[a] >= 0) lb = std::max(lb, std::max(0, Distance(au, init, final_loc[a])));
+      for (auto [b, v] : visits)
+        if (b == static_cast<int>(a)) lb = std::max(lb, via(v));
     }
     return std::min(lb, o_.max_horizon);
   }
@@ -181,12 +202,24 @@ class Solver {
       reqs[i].threads = o_.threads;
       reqs[i].cancel = &stop;
     }
+    // The first strategy starts at once; the others only when it has not decided within
+    // portfolio_delay_ms, so easy problems do not pay for a second flattening.
     std::vector<std::future<RunResult>> futures;
-    for (auto& r : reqs)
-      futures.push_back(std::async(std::launch::async, [&r] { return RunMiniZinc(r); }));
-    std::vector<std::optional<RunResult>> done(futures.size());
+    std::vector<std::optional<RunResult>> done(reqs.size());
     std::size_t finished = 0;
-    while (finished < futures.size()) {
+    const auto started = Clock::now();
+    auto launch = [&](std::size_t i) {
+      futures.push_back(std::async(std::launch::async, [&reqs, i] { return RunMiniZinc(reqs[i]); }));
+    };
+    launch(0);
+    while (finished < futures.size() || futures.size() < reqs.size()) {
+      if (futures.size() < reqs.size() && !stop &&
+          std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started).count() >=
+              o_.portfolio_delay_ms) {
+        reqs[futures.size()].time_limit_ms =
+            std::max(1L, o_.time_limit_ms - MsSince(t0_));
+        launch(futures.size());
+      }
       for (std::size_t i = 0; i < futures.size(); ++i) {
         if (done[i] || futures[i].wait_for(std::chrono::milliseconds(10)) != std::future_status::ready)
           continue;
@@ -195,9 +228,11 @@ class Solver {
         if (Definitive(*done[i])) stop = true;
       }
       if (o_.cancel && o_.cancel->load()) stop = true;
+      if (stop && finished == futures.size()) break;
     }
     std::vector<RunResult> out;
-    for (auto& r : done) out.push_back(std::move(*r));
+    for (auto& r : done)
+      if (r) out.push_back(std::move(*r));
     runs_ += static_cast<int>(out.size());
     return out;
   }

@@ -33,6 +33,7 @@ struct SolveOptions {
   // or one strategy: g_first, tc_first, first_fail, transitions_first, default (Gecode's own).
   std::string search = "portfolio";
   int portfolio = 2;
+  long portfolio_delay_ms = 300;       // the second strategy starts only after this
   std::string model_out;               // when set, the last model is written here (+ .json data)
   const std::atomic<bool>* cancel = nullptr;
 };
