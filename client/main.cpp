@@ -2,9 +2,15 @@
 #include <iostream>
 #include <vector>
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include "client/commands.h"
 
 int main(int argc, char** argv) {
+  // Logs go to stderr: stdout carries the JSON answers.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("ctburton"));
+  spdlog::set_level(spdlog::level::warn);
   CLI::App app{"ctburton: natural language to verified multi-agent plans"};
   app.require_subcommand(1);
   std::vector<ctb::cli::Runner> runners;

@@ -9,6 +9,8 @@
 #include <map>
 #include <future>
 
+#include <spdlog/spdlog.h>
+
 #include "planner/decompose.h"
 #include "planner/encoder.h"
 #include "planner/runner.h"
@@ -258,6 +260,9 @@ class Solver {
     for (const auto& r : runs)
       if (Definitive(r) && !decided) decided = &r;
     if (decided && decided->status == RunResult::Status::kError) {
+      // The raw solver text goes to the log only, never to clients.
+      spdlog::error("solver failure at horizon {}: {}; stderr: {}", h, decided->error,
+                    decided->solver_stderr);
       error_ = Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
       return Outcome::kUnknown;
     }
@@ -273,6 +278,8 @@ class Solver {
       auto problems = VerifyTrajectory(*traj, d_, sp_, info_.ticks_per_second);
       if (!problems.empty()) {
         std::string where = SaveFailedModel();
+        spdlog::error("plan failed verification ({} problem(s), first: {}); model kept at {}",
+                      problems.size(), problems[0], where);
         Error e{ErrorCode::kInternal,
                 "internal error: the solver's plan failed independent verification (model "
                 "kept at " + where + ")", {}};
@@ -441,11 +448,14 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   stats["parts"] = parts.size();
   stats["parts_reused"] = reused;
   if (merged.goal_event > limit) {
+    spdlog::info("merged plan needs {} events, more than {}: solving as one model",
+                 merged.goal_event, limit);
     stats["merge"] = "too many events";
     return std::nullopt;
   }
   auto problems = VerifyTrajectory(merged, d, sp, std::lround(1.0 / d.time_resolution));
   if (!problems.empty()) {
+    spdlog::info("merged plan failed verification ({}): solving as one model", problems[0]);
     stats["merge"] = "failed verification: " + problems[0];
     return std::nullopt;
   }
