@@ -23,4 +23,11 @@ Runner AddSolve(CLI::App& app);
 // answer could not be repaired.
 Runner AddTranslate(CLI::App& app);
 
+// `ctburton plan [--server URL] --domain NAME "command" [--session ID]`: translate and solve,
+// locally or through a running server; prints {state_plan, reasoning, trajectory[, session]}.
+Runner AddPlan(CLI::App& app);
+
+// `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
+Runner AddServe(CLI::App& app);
+
 }  // namespace ctb::cli

@@ -1,4 +1,5 @@
 // ctburton: the command-line tool. Thin: every subcommand calls the libraries.
+#include <csignal>
 #include <iostream>
 #include <vector>
 
@@ -8,6 +9,8 @@
 #include "client/commands.h"
 
 int main(int argc, char** argv) {
+  // A peer that closes its socket must not kill the process (server and client alike).
+  std::signal(SIGPIPE, SIG_IGN);
   // Logs go to stderr: stdout carries the JSON answers.
   spdlog::set_default_logger(spdlog::stderr_color_mt("ctburton"));
   spdlog::set_level(spdlog::level::warn);
@@ -17,6 +20,8 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddValidate(app));
   runners.push_back(ctb::cli::AddSolve(app));
   runners.push_back(ctb::cli::AddTranslate(app));
+  runners.push_back(ctb::cli::AddServe(app));
+  runners.push_back(ctb::cli::AddPlan(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

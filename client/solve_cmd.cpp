@@ -3,6 +3,7 @@
 #include <string>
 
 #include "client/commands.h"
+#include "client/remote.h"
 #include "planner/catalog.h"
 #include "planner/solve.h"
 
@@ -21,6 +22,7 @@ struct SolveCliOptions {
   bool no_reuse = false;
   bool no_redundant = false;
   std::string model_out;
+  std::string server;
 };
 
 void PrintError(const Error& e) {
@@ -28,7 +30,42 @@ void PrintError(const Error& e) {
   for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
 }
 
+// --server: POST /solve with the domain's name (or the file as action_model) and the plan.
+int RunRemoteSolve(const SolveCliOptions& o) {
+  Diagnostics d;
+  auto plan = ReadJsonFile(o.file, d);
+  if (!plan) {
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + o.file, d));
+    return 1;
+  }
+  Json body = {{"state_plan", *plan}};
+  bool is_path = o.domain.find('/') != std::string::npos || o.domain.find(".json") != std::string::npos;
+  if (is_path) {
+    auto dom = ReadJsonFile(o.domain, d);
+    if (!dom) {
+      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + o.domain, d));
+      return 2;
+    }
+    body["action_model"] = *dom;
+  } else {
+    body["domain"] = o.domain;
+  }
+  Json options = {{"time_limit_ms", o.time_limit_ms}};
+  if (!o.objective.empty()) options["objective"] = o.objective;
+  if (o.horizon) options["horizon"] = *o.horizon;
+  else options["max_horizon"] = o.max_horizon;
+  body["options"] = options;
+  auto r = PostJson(o.server, "/solve", body, o.time_limit_ms);
+  if (auto* e = std::get_if<Error>(&r)) {
+    PrintError(*e);
+    return e->code == ErrorCode::kInvalidInput ? 1 : 3;
+  }
+  std::cout << std::get<Json>(r).dump(2) << "\n";
+  return 0;
+}
+
 int RunSolve(const SolveCliOptions& o) {
+  if (!o.server.empty()) return RunRemoteSolve(o);
   std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
   Diagnostics dd;
   auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
@@ -95,6 +132,7 @@ Runner AddSolve(CLI::App& app) {
   sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
+  sub->add_option("--server", o->server, "Solve on a running ctburton server, e.g. http://127.0.0.1:8080");
   return [o, sub]() { return sub->parsed() ? RunSolve(*o) : -1; };
 }
 

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 extern char** environ;
@@ -80,6 +81,30 @@ std::vector<pid_t> KillProcessesIn(const std::string& dir) {
     killed.push_back(pid);
   }
   return killed;
+}
+
+// Solver processes (fzn-*) that were reparented to us as subreaper when their minizinc died.
+// Our own direct children are minizinc processes, so reaping these steals no job's status.
+std::vector<pid_t> OrphanedSolvers() {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  const pid_t self = getpid();
+  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "stat");
+    std::string stat;
+    std::getline(in, stat);
+    auto open = stat.find('('), close = stat.rfind(')');
+    if (open == std::string::npos || close == std::string::npos) continue;
+    std::string comm = stat.substr(open + 1, close - open - 1);
+    std::istringstream rest(stat.substr(close + 2));
+    char state;
+    long ppid = 0;
+    rest >> state >> ppid;
+    if (ppid == self && comm.rfind("fzn-", 0) == 0) out.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return out;
 }
 
 bool WriteFile(const std::string& path, const std::string& text) {
@@ -270,13 +295,26 @@ RunResult RunMiniZinc(const RunRequest& req) {
   // Anything left in the job directory (an orphaned fzn-gecode) is killed, and reaped if it
   // came back to us as subreaper. Only those pids: other jobs' children are not ours to reap.
   std::vector<pid_t> leftovers = KillProcessesIn(dir.path);
-  for (int i = 0; i < 50 && !leftovers.empty(); ++i) {
+  // A killed solver is reparented to us (subreaper) only once minizinc is gone: keep reaping
+  // until its /proc entry disappears (bounded), so no zombie outlives the job.
+  for (int i = 0; i < 200 && !leftovers.empty(); ++i) {
     for (auto it = leftovers.begin(); it != leftovers.end();) {
-      pid_t w = waitpid(*it, nullptr, WNOHANG);
-      bool gone = w == *it || (w < 0 && errno == ECHILD);
+      waitpid(*it, nullptr, WNOHANG);
+      std::error_code ec;
+      bool gone = !fs::exists("/proc/" + std::to_string(*it), ec);
       it = gone ? leftovers.erase(it) : it + 1;
     }
     if (!leftovers.empty()) usleep(10000);
+  }
+  // A solver that died after its minizinc (SIGTERM forwarded) turns into a zombie reparented to
+  // us; its cwd is no longer readable, so reap it by parentage.
+  for (int i = 0; i < 50; ++i) {
+    auto orphans = OrphanedSolvers();
+    if (orphans.empty()) break;
+    for (pid_t p : orphans) {
+      if (waitpid(p, nullptr, WNOHANG) == 0 && i > 20) kill(p, SIGKILL);
+    }
+    usleep(10000);
   }
   lines.Finish();
   r.elapsed_ms = MsSince(t0);

@@ -261,8 +261,8 @@ class Solver {
       if (Definitive(r) && !decided) decided = &r;
     if (decided && decided->status == RunResult::Status::kError) {
       // The raw solver text goes to the log only, never to clients.
-      spdlog::error("solver failure at horizon {}: {}; stderr: {}", h, decided->error,
-                    decided->solver_stderr);
+      spdlog::error("{}", Json(fmt::format("solver failure at horizon {}: {}; stderr: {}", h, decided->error,
+                    decided->solver_stderr)).dump());
       error_ = Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
       return Outcome::kUnknown;
     }
@@ -278,8 +278,8 @@ class Solver {
       auto problems = VerifyTrajectory(*traj, d_, sp_, info_.ticks_per_second);
       if (!problems.empty()) {
         std::string where = SaveFailedModel();
-        spdlog::error("plan failed verification ({} problem(s), first: {}); model kept at {}",
-                      problems.size(), problems[0], where);
+        spdlog::error("{}", Json(fmt::format("plan failed verification ({} problem(s), first: {}); model kept at {}",
+                      problems.size(), problems[0], where)).dump());
         Error e{ErrorCode::kInternal,
                 "internal error: the solver's plan failed independent verification (model "
                 "kept at " + where + ")", {}};
@@ -448,14 +448,14 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   stats["parts"] = parts.size();
   stats["parts_reused"] = reused;
   if (merged.goal_event > limit) {
-    spdlog::info("merged plan needs {} events, more than {}: solving as one model",
-                 merged.goal_event, limit);
+    spdlog::info("{}", Json(fmt::format("merged plan needs {} events, more than {}: solving as one model",
+                 merged.goal_event, limit)).dump(-1, ' ', false, Json::error_handler_t::replace));
     stats["merge"] = "too many events";
     return std::nullopt;
   }
   auto problems = VerifyTrajectory(merged, d, sp, std::lround(1.0 / d.time_resolution));
   if (!problems.empty()) {
-    spdlog::info("merged plan failed verification ({}): solving as one model", problems[0]);
+    spdlog::info("{}", Json(fmt::format("merged plan failed verification ({}): solving as one model", problems[0])).dump(-1, ' ', false, Json::error_handler_t::replace));
     stats["merge"] = "failed verification: " + problems[0];
     return std::nullopt;
   }

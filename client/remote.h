@@ -1,0 +1,18 @@
+// Talking to a running ctburton server (the `--server URL` mode of the CLI).
+#pragma once
+
+#include <string>
+#include <variant>
+
+#include "planner/error.h"
+#include "planner/json_io.h"
+
+namespace ctb::cli {
+
+// POSTs body to URL + path; returns the JSON answer of a 200, or the server's error (its
+// {"error": {...}} turned back into an Error with the HTTP status's code), or a connection
+// error (kUnavailable).
+std::variant<Json, Error> PostJson(const std::string& server, const std::string& path,
+                                   const Json& body, long timeout_ms);
+
+}  // namespace ctb::cli

@@ -1,0 +1,49 @@
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "client/commands.h"
+#include "server/service.h"
+
+namespace ctb::cli {
+
+namespace {
+struct ServeOptions {
+  std::optional<int> port;
+  std::string host, config_file, config_dir;
+};
+
+int RunServe(const ServeOptions& o) {
+  spdlog::set_level(spdlog::level::info);
+  // One JSON object per line: {"ts", "level", "log": <the message: a JSON object for requests>}.
+  spdlog::set_pattern(R"({"ts":"%Y-%m-%dT%H:%M:%S.%e","level":"%l","log":%v})");
+  auto cfg = server::ServerConfig::Load(o.config_file);
+  if (auto* e = std::get_if<Error>(&cfg)) {
+    std::cerr << "error: " << e->ToString() << "\n";
+    return 2;
+  }
+  auto& c = std::get<server::ServerConfig>(cfg);
+  if (o.port) c.port = *o.port;
+  if (!o.host.empty()) c.host = o.host;
+  if (!o.config_dir.empty()) c.config_dir = o.config_dir;
+  if (auto e = c.Validate()) {
+    std::cerr << "error: " << e->ToString() << "\n";
+    return 2;
+  }
+  return server::Serve(c);
+}
+}  // namespace
+
+Runner AddServe(CLI::App& app) {
+  auto o = std::make_shared<ServeOptions>();
+  CLI::App* sub = app.add_subcommand("serve", "Run the HTTP service (default 127.0.0.1:8080)");
+  sub->add_option("--port", o->port, "Port (0: any free port)")->check(CLI::Range(0, 65535));
+  sub->add_option("--host", o->host, "Address to listen on (default 127.0.0.1)");
+  sub->add_option("--config", o->config_file, "JSON configuration file");
+  sub->add_option("--config-dir", o->config_dir, "Configuration directory (domains)");
+  return [o, sub]() { return sub->parsed() ? RunServe(*o) : -1; };
+}
+
+}  // namespace ctb::cli

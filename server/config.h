@@ -1,0 +1,42 @@
+// The service's configuration: one struct, filled once from defaults, an optional JSON file,
+// the environment and flags (later wins), validated at start and logged with the key masked.
+#pragma once
+
+#include <string>
+#include <variant>
+
+#include "planner/error.h"
+#include "planner/json_io.h"
+#include "translator/llm.h"
+
+namespace ctb::server {
+
+struct ServerConfig {
+  std::string host = "127.0.0.1";
+  int port = 8080;
+  std::string config_dir;   // domains: <config_dir>/domains/*.json
+  std::string prompts_dir;
+  std::string static_dir;   // the web page
+  std::string minizinc = "minizinc";
+  std::string recordings_dir;      // answers /plan and /translate when no LLM is configured
+  long max_body_bytes = 1 << 20;   // 413 beyond
+  int read_timeout_s = 10;
+  int write_timeout_s = 60;
+  int solver_workers = 2;          // solves at once
+  int solver_queue = 8;            // solves waiting; beyond: 503 with Retry-After
+  long default_time_limit_ms = 30000;
+  long max_time_limit_ms = 60000;  // a request's time_limit_ms is capped to this
+  int max_horizon_limit = 64;
+  int max_sessions = 1000;
+  int session_idle_s = 1800;
+  int shutdown_grace_ms = 5000;    // in-flight work gets this long, then is cancelled
+  LlmConfig llm;
+
+  // Defaults, then the file (if any), then the environment (CTB_*), as documented in
+  // docs/service.md. Flags are applied by the caller before Validate().
+  static std::variant<ServerConfig, Error> Load(const std::string& file);
+  std::optional<Error> Validate() const;
+  Json ToLogJson() const;  // the key masked
+};
+
+}  // namespace ctb::server

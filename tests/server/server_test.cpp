@@ -1,0 +1,396 @@
+// Black-box tests of `ctburton serve`: the real binary on a free loopback port, the real HTTP
+// client, the real minizinc; the LLM is the loopback mock.
+#include <httplib.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "../planner/test_util.h"
+#include "../translator/mock_llm.h"
+
+namespace ctb {
+namespace {
+
+using testing::MockLlmServer;
+using testing::MockReply;
+
+// Writing to a socket the server closed must fail, not kill the test binary.
+const bool kIgnoreSigpipe = [] {
+  signal(SIGPIPE, SIG_IGN);
+  return true;
+}();
+
+int FreePort() {
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  int port = ntohs(a.sin_port);
+  close(s);
+  return port;
+}
+
+int SolverProcesses() {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+    std::ifstream in(e.path() / "comm");
+    std::string comm;
+    if (in >> comm && (comm == "fzn-gecode" || comm == "minizinc")) ++n;
+  }
+  return n;
+}
+
+// The server as a child process.
+class Server {
+ public:
+  explicit Server(std::vector<std::pair<std::string, std::string>> env = {}, Json config = Json::object()) {
+    port_ = FreePort();
+    std::string cfg_path;
+    if (!config.empty()) {
+      cfg_path = "/tmp/ctb-server-test-" + std::to_string(getpid()) + "-" + std::to_string(port_) + ".json";
+      std::ofstream(cfg_path) << config.dump();
+    }
+    pid_ = fork();
+    if (pid_ == 0) {
+      for (const char* v : {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"}) unsetenv(v);
+      for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+      setenv("CTB_CONFIG_DIR", (ctb::testing::SourceDir() + "/config").c_str(), 1);
+      setenv("CTB_PROMPTS_DIR", (ctb::testing::SourceDir() + "/prompts").c_str(), 1);
+      std::string port = std::to_string(port_);
+      int devnull = open("/dev/null", O_WRONLY);
+      dup2(devnull, 1);
+      if (cfg_path.empty())
+        execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), nullptr);
+      else
+        execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), "--config", cfg_path.c_str(), nullptr);
+      _exit(127);
+    }
+    for (int i = 0; i < 200; ++i) {
+      if (Client().Get("/healthz")) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+    ADD_FAILURE() << "server did not start";
+  }
+  ~Server() {
+    if (pid_ > 0 && Stop(5000) < 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  httplib::Client Client() const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_read_timeout(120, 0);
+    return c;
+  }
+  // SIGTERM; returns the exit status (-1 when it did not exit within wait_ms).
+  int Stop(long wait_ms) {
+    kill(pid_, SIGTERM);
+    for (long t = 0; t < wait_ms; t += 20) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+  bool Alive() const { return kill(pid_, 0) == 0; }
+
+ private:
+  int port_ = 0;
+  pid_t pid_ = -1;
+};
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Json Example(const std::string& file) { return Json::parse(ReadFile(ctb::testing::ConfigDir() + "/examples/" + file)); }
+
+Json SolveBody(const std::string& file, Json options = Json::object()) {
+  Json b = {{"domain", file.substr(0, file.find('/'))}, {"state_plan", Example(file)}};
+  if (!options.empty()) b["options"] = options;
+  return b;
+}
+
+Json ErrorOf(const httplib::Result& r) { return Json::parse(r->body)["error"]; }
+
+TEST(Service, HealthReadyDomainsAndThePage) {
+  Server s;
+  auto c = s.Client();
+  auto h = c.Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
+  EXPECT_EQ(c.Get("/readyz")->status, 200);
+  auto d = c.Get("/domains");
+  ASSERT_EQ(d->status, 200);
+  EXPECT_EQ(Json::parse(d->body)["domains"].size(), 3u);
+  auto one = c.Get("/domains/presentation");
+  ASSERT_EQ(one->status, 200);
+  EXPECT_EQ(Json::parse(one->body)["automata"].size(), 3u);
+  auto missing = c.Get("/domains/nosuch");
+  EXPECT_EQ(missing->status, 404);
+  EXPECT_EQ(ErrorOf(missing)["code"], "not_found");
+  auto route = c.Get("/nosuch/route");
+  EXPECT_EQ(route->status, 404);
+  EXPECT_EQ(ErrorOf(route)["code"], "not_found");
+  auto page = c.Get("/");
+  ASSERT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find("<title>ctburton</title>"), std::string::npos);
+  EXPECT_EQ(c.Get("/app.js")->status, 200);
+}
+
+TEST(Service, SolveAnswersAVerifiedTrajectory) {
+  Server s;
+  auto r = s.Client().Post("/solve", SolveBody("presentation/test1_cot.json", {{"objective", "makespan"}}).dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  Json t = Json::parse(r->body);
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["verified"], true);
+  EXPECT_EQ(t["goal_reached_at"], 2430);
+}
+
+TEST(Service, InfeasibleIsA200) {
+  Server s;
+  Json b = {{"domain", "presentation"}, {"state_plan", Json::parse(ReadFile(ctb::testing::SourceDir() + "/tests/data/deadline_infeasible.json"))}};
+  auto r = s.Client().Post("/solve", b.dump(), "application/json");
+  ASSERT_EQ(r->status, 200);
+  EXPECT_EQ(Json::parse(r->body)["status"], "infeasible");
+}
+
+TEST(Service, InlineActionModel) {
+  Server s;
+  Json b = {{"action_model", Json::parse(ReadFile(ctb::testing::ConfigDir() + "/domains/presentation.json"))},
+            {"state_plan", Example("presentation/test1_cot.json")}};
+  auto r = s.Client().Post("/solve", b.dump(), "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+}
+
+TEST(Service, BadInputGetsTheContractsErrorShape) {
+  Server s;
+  auto c = s.Client();
+  struct Case { std::string body; int status; std::string path; };
+  Json bad_plan = SolveBody("presentation/test1_cot.json");
+  bad_plan["state_plan"]["initial_state"]["proj"] = "projOf";
+  Json bad_option = SolveBody("presentation/test1_cot.json", {{"max_horizon", 100000}});
+  Json unknown_domain = SolveBody("presentation/test1_cot.json");
+  unknown_domain["domain"] = "nosuch";
+  Json extra = SolveBody("presentation/test1_cot.json");
+  extra["plan"] = 1;
+  Json bad_model = {{"action_model", {{"name", "x"}, {"automata", Json::array()}}}, {"state_plan", Json::object()}};
+  std::vector<Case> cases = {
+      {"{bad json", 400, "/"},
+      {"", 400, "/"},
+      {"[1,2]", 400, "/"},
+      {std::string(100, '[') + std::string(100, ']'), 400, "/"},
+      {bad_plan.dump(), 400, "/state_plan/initial_state/proj"},
+      {bad_option.dump(), 400, "/options/max_horizon"},
+      {unknown_domain.dump(), 404, "/domain"},
+      {extra.dump(), 400, "/plan"},
+      {bad_model.dump(), 400, "/action_model/automata"},
+  };
+  for (const auto& k : cases) {
+    auto r = c.Post("/solve", k.body, "application/json");
+    ASSERT_TRUE(r) << k.body;
+    EXPECT_EQ(r->status, k.status) << k.body.substr(0, 80) << " -> " << r->body;
+    Json e = ErrorOf(r);
+    EXPECT_TRUE(e.contains("code") && e.contains("message")) << r->body;
+    EXPECT_EQ(e.value("path", ""), k.path) << r->body;
+  }
+  EXPECT_TRUE(s.Alive());
+}
+
+TEST(Service, OversizedBodiesPlainAndChunked) {
+  Server s({}, {{"max_body_bytes", 4096}});
+  auto c = s.Client();
+  std::string big = "{\"x\": \"" + std::string(100000, 'a') + "\"}";
+  auto r = c.Post("/solve", big, "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 413);
+  EXPECT_EQ(ErrorOf(r)["code"], "too_large");
+  // A chunked body cannot dodge the limit: chunked requests are refused outright. The server
+  // stops reading at once, so the upload is bounded by the client's own timeouts.
+  std::size_t sent = 0;
+  httplib::Client cc = s.Client();
+  cc.set_write_timeout(3, 0);
+  cc.set_read_timeout(5, 0);
+  auto chunked = cc.Post("/solve",
+                        [&](size_t, httplib::DataSink& sink) {
+                          if (sent < 50000) {
+                            std::string part(10000, ' ');
+                            sink.write(part.data(), part.size());
+                            sent += part.size();
+                          } else {
+                            sink.done();
+                          }
+                          return true;
+                        },
+                        "application/json");
+  // Either the refusal arrives, or the server cut the upload short; never a 200.
+  if (chunked) {
+    EXPECT_TRUE(chunked->status == 411 || chunked->status == 413) << chunked->status;
+  }
+  EXPECT_EQ(c.Get("/healthz")->status, 200);
+}
+
+TEST(Service, RequestIdIsEchoedOrMade) {
+  Server s;
+  auto c = s.Client();
+  auto r = c.Get("/healthz", {{"X-Request-Id", "abc-123"}});
+  EXPECT_EQ(r->get_header_value("X-Request-Id"), "abc-123");
+  auto made = c.Get("/healthz", {{"X-Request-Id", "bad id with spaces"}});
+  EXPECT_EQ(made->get_header_value("X-Request-Id").size(), 16u);
+}
+
+TEST(Service, MetricsCountRequests) {
+  Server s;
+  auto c = s.Client();
+  c.Get("/healthz");
+  c.Post("/solve", "{bad", "application/json");
+  auto m = c.Get("/metrics");
+  ASSERT_EQ(m->status, 200);
+  EXPECT_NE(m->body.find("ctb_http_requests_total{route=\"/healthz\",status=\"200\"} "), std::string::npos) << m->body;
+  EXPECT_NE(m->body.find("ctb_http_requests_total{route=\"/solve\",status=\"400\"} 1"), std::string::npos);
+  EXPECT_NE(m->body.find("ctb_http_request_duration_seconds_bucket{route=\"/solve\",le=\"+Inf\"} 1"), std::string::npos);
+  EXPECT_NE(m->body.find("ctb_solver_jobs_running 0"), std::string::npos);
+  EXPECT_NE(m->body.find("ctb_llm_calls_total"), std::string::npos);
+}
+
+const char* kTp1 =
+    "The computer and projector start in the off state, and the connection is disconnected. The projector "
+    "should turn on and stay on for 1800 seconds, following which everything should turn off within 600 "
+    "seconds. In addition, the projector should turn on within 60 seconds.";
+
+TEST(Service, PlanAndTranslateFromTheRecordingsWithoutAnLlm) {
+  Server s;
+  auto c = s.Client();
+  Json b = {{"domain", "presentation"}, {"command", kTp1}};
+  auto t = c.Post("/translate", b.dump(), "application/json");
+  ASSERT_EQ(t->status, 200) << t->body;
+  EXPECT_TRUE(Json::parse(t->body)["state_plan"]["constraints"]["temporal"].contains("ProjectorOnWithin60"));
+  auto p = c.Post("/plan", b.dump(), "application/json");
+  ASSERT_EQ(p->status, 200) << p->body;
+  Json pj = Json::parse(p->body);
+  EXPECT_EQ(pj["trajectory"]["verified"], true);
+  EXPECT_EQ(pj["session"].get<std::string>().size(), 32u);
+  b["command"] = "Something nobody recorded.";
+  auto miss = c.Post("/plan", b.dump(), "application/json");
+  EXPECT_EQ(miss->status, 503);
+  EXPECT_NE(ErrorOf(miss)["message"].get<std::string>().find("CTB_LLM_BASE_URL"), std::string::npos);
+}
+
+TEST(Service, SessionFollowUpEditsThePreviousStatePlan) {
+  MockLlmServer m;
+  Json first = Example("presentation/test1_cot.json");
+  Json second = first;
+  second["constraints"]["episodes"]["ProjectorOnDuration"]["lower_bound"] = 300;
+  second["constraints"]["episodes"]["ProjectorOnDuration"]["upper_bound"] = 300;
+  m.Then(MockReply::Chat("Initial State\nall off"));
+  m.Then(MockReply::Chat(first.dump()));
+  m.Then(MockReply::Chat(second.dump()));
+  Server s({{"CTB_LLM_BASE_URL", m.BaseUrl()}, {"CTB_LLM_MODEL", "mock"}});
+  auto c = s.Client();
+  auto p1 = c.Post("/plan", Json({{"domain", "presentation"}, {"command", kTp1}}).dump(), "application/json");
+  ASSERT_EQ(p1->status, 200) << p1->body;
+  std::string session = Json::parse(p1->body)["session"];
+  Json follow = {{"session", session}, {"command", "make the projector stay on for 300 seconds instead"}};
+  auto p2 = c.Post("/plan", follow.dump(), "application/json");
+  ASSERT_EQ(p2->status, 200) << p2->body;
+  Json t = Json::parse(p2->body)["trajectory"];
+  const Json& ep = t["episodes"]["ProjectorOnDuration"];
+  EXPECT_EQ(ep["end"].get<double>() - ep["start"].get<double>(), 300);
+  auto reqs = m.Requests();
+  ASSERT_EQ(reqs.size(), 3u);
+  const Json& msgs = reqs[2].body["messages"];
+  std::string last = msgs.back()["content"];
+  EXPECT_NE(last.find("\"ProjectorOnDuration\""), std::string::npos) << "the follow-up quotes the current plan";
+  EXPECT_NE(last.find("300 seconds instead"), std::string::npos);
+  EXPECT_GE(msgs.size(), 5u) << "the conversation is kept";
+  auto unknown = c.Post("/plan", Json({{"session", "nope"}, {"command", "x"}}).dump(), "application/json");
+  EXPECT_EQ(unknown->status, 404);
+}
+
+TEST(Service, LlmFailuresMapToTheirStatuses) {
+  MockLlmServer m;
+  m.Then(MockReply::Status(401, "bad key"));
+  m.Then(MockReply::Status(200, "late", 3000));
+  for (int i = 0; i < 4; ++i) m.Then(MockReply::Chat("no json here"));
+  Server s({{"CTB_LLM_BASE_URL", m.BaseUrl()}, {"CTB_LLM_TIMEOUT_MS", "500"}});
+  auto c = s.Client();
+  Json b = {{"domain", "presentation"}, {"command", kTp1}, {"prompting", "direct"}};
+  EXPECT_EQ(c.Post("/translate", b.dump(), "application/json")->status, 502);
+  EXPECT_EQ(c.Post("/translate", b.dump(), "application/json")->status, 504);
+  auto unrepairable = c.Post("/translate", b.dump(), "application/json");
+  EXPECT_EQ(unrepairable->status, 422);
+  EXPECT_EQ(ErrorOf(unrepairable)["code"], "unprocessable");
+}
+
+TEST(Service, BurstOfSolvesIsAnsweredWith200Or503AndTheServerLives) {
+  Server s({}, {{"solver_workers", 1}, {"solver_queue", 1}});
+  const int n = 6;
+  std::vector<std::future<int>> answers;
+  Json body = SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 3000}});
+  std::vector<std::string> retry_after(n);
+  for (int i = 0; i < n; ++i)
+    answers.push_back(std::async(std::launch::async, [&, i] {
+      auto r = s.Client().Post("/solve", body.dump(), "application/json");
+      if (!r) return -1;
+      retry_after[i] = r->get_header_value("Retry-After");
+      return r->status;
+    }));
+  int ok = 0, busy = 0;
+  for (int i = 0; i < n; ++i) {
+    int st = answers[i].get();
+    EXPECT_TRUE(st == 200 || st == 503) << st;
+    if (st == 200) ++ok;
+    if (st == 503) {
+      ++busy;
+      EXPECT_FALSE(retry_after[i].empty());
+    }
+  }
+  EXPECT_EQ(ok + busy, n);
+  EXPECT_GE(busy, 1);
+  EXPECT_GE(ok, 1);
+  EXPECT_EQ(s.Client().Get("/healthz")->status, 200);
+}
+
+TEST(Service, ShutdownDuringASolveKillsTheSolverAndExitsZero) {
+  int before = SolverProcesses();
+  Server s({}, {{"shutdown_grace_ms", 500}});
+  auto pending = std::async(std::launch::async, [&] {
+    auto r = s.Client().Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    return r ? r->status : -1;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_GT(SolverProcesses(), before) << "a solve is running";
+  auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(s.Stop(15000), 0);
+  auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(ms, 10000);
+  int st = pending.get();
+  EXPECT_TRUE(st == 503 || st == 200 || st == -1) << st;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(SolverProcesses(), before);
+}
+
+}  // namespace
+}  // namespace ctb
