@@ -414,6 +414,7 @@ class Service {
   }
 
   void Routes() {
+    svr_.set_tcp_nodelay(true);  // headers and body go out in two writes: no 40 ms Nagle stall
     svr_.set_read_timeout(cfg_.read_timeout_s, 0);
     svr_.set_write_timeout(cfg_.write_timeout_s, 0);
     svr_.set_payload_max_length(static_cast<std::size_t>(cfg_.max_body_bytes));
