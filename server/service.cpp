@@ -15,6 +15,7 @@
 #include "planner/catalog.h"
 #include "planner/runner.h"
 #include "planner/solve.h"
+#include "server/conn_watch.h"
 #include "server/metrics.h"
 #include "translator/pipeline.h"
 
@@ -260,12 +261,29 @@ class Service {
     return o;
   }
 
-  std::variant<Json, Error> SolveGated(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+  // Runs a solve in a pool slot. The job is cancelled (its solver killed) when the server stops
+  // or when the client's connection is gone.
+  std::variant<Json, Error> SolveGated(const Domain& d, const StatePlan& sp, SolveOptions o,
+                                       const httplib::Request& req) {
     if (!gate_.Enter(cancel_)) {
       ++metrics_.solver_rejected;
       return Error{ErrorCode::kBusy, "all solver slots are busy; retry later", {}};
     }
+    std::atomic<bool> job_cancel{false}, done{false};
+    o.cancel = &job_cancel;
+    std::thread watch([&] {
+      while (!done) {
+        if (cancel_ || !ClientConnected(req.local_port, req.remote_port)) {
+          if (!cancel_) spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", req.remote_port}}).dump());
+          job_cancel = true;
+          return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+    });
     auto r = Solve(d, sp, o);
+    done = true;
+    watch.join();
     gate_.Leave();
     return r;
   }
@@ -292,7 +310,7 @@ class Service {
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
     auto opts = Options(*body, std::nullopt);
     if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
-    auto r = SolveGated(domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts));
+    auto r = SolveGated(domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), req);
     if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
     SendJson(res, 200, std::get<Json>(r));
   }
@@ -387,7 +405,7 @@ class Service {
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
     auto opts = Options(*body, std::nullopt);
     if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
-    auto solved = SolveGated(*tr.domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts));
+    auto solved = SolveGated(*tr.domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), req);
     if (auto* e = std::get_if<Error>(&solved)) return SendError(res, *e);
     {
       std::lock_guard<std::mutex> lock(sessions_mu_);

@@ -373,6 +373,26 @@ TEST(Service, BurstOfSolvesIsAnsweredWith200Or503AndTheServerLives) {
   EXPECT_EQ(s.Client().Get("/healthz")->status, 200);
 }
 
+TEST(Service, AClientThatGoesAwayHasItsSolverKilled) {
+  int before = SolverProcesses();
+  Server s;
+  {
+    httplib::Client c = s.Client();
+    c.set_read_timeout(1, 0);  // gives up after 1 s and closes its connection
+    auto r = c.Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    EXPECT_FALSE(r) << "the solve takes longer than the client waits";
+  }
+  bool gone = false;
+  for (int i = 0; i < 100 && !gone; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    gone = SolverProcesses() == before;
+  }
+  EXPECT_TRUE(gone) << "the solver still runs 5 s after its client left";
+  EXPECT_EQ(s.Client().Get("/healthz")->status, 200);
+  auto m = s.Client().Get("/metrics");
+  EXPECT_NE(m->body.find("ctb_solver_jobs_running 0"), std::string::npos);
+}
+
 TEST(Service, ShutdownDuringASolveKillsTheSolverAndExitsZero) {
   int before = SolverProcesses();
   Server s({}, {{"shutdown_grace_ms", 500}});
