@@ -6,9 +6,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "planner/error.h"
+
 namespace ctb::cli {
 
 using Runner = std::function<int()>;
+
+// Prints "error (<code>): <message>" and one line per detail to stderr.
+void PrintError(const Error& e);
 
 // `ctburton validate --domain NAME|PATH FILE`: exit 0 and "valid" (warnings after it) or exit 1
 // and one line per error: "<json pointer>: <offset if any>: <message>".

@@ -8,6 +8,13 @@
 
 #include "client/commands.h"
 
+namespace ctb::cli {
+void PrintError(const Error& e) {
+  std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
+  for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
+}
+}  // namespace ctb::cli
+
 int main(int argc, char** argv) {
   // A peer that closes its socket must not kill the process (server and client alike).
   std::signal(SIGPIPE, SIG_IGN);

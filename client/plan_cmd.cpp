@@ -17,8 +17,7 @@ struct PlanCliOptions {
 };
 
 int Fail(const Error& e) {
-  std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
-  for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
+  PrintError(e);
   switch (e.code) {
     case ErrorCode::kInvalidInput: case ErrorCode::kNotFound: return 1;
     case ErrorCode::kUnprocessable: return 4;

@@ -25,11 +25,6 @@ struct SolveCliOptions {
   std::string server;
 };
 
-void PrintError(const Error& e) {
-  std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
-  for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
-}
-
 // --server: POST /solve with the domain's name (or the file as action_model) and the plan.
 int RunRemoteSolve(const SolveCliOptions& o) {
   Diagnostics d;

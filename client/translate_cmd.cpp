@@ -23,8 +23,7 @@ int ExitCode(ErrorCode c) {
 
 int RunTranslate(const TranslateCliOptions& o) {
   auto fail = [](const Error& e) {
-    std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
-    for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
+    PrintError(e);
     return ExitCode(e.code);
   };
   Diagnostics dd;

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package ctburton needs to build, test and run. Idempotent.
+# Installs every Debian 12 package ctburton needs to build and run. Idempotent.
+#   --test   also what the tests need: Chromium and Node.js for the browser test.
 # The same list is used by docker/Dockerfile (keep them in step).
 set -euo pipefail
 PACKAGES=(
@@ -9,6 +10,10 @@ PACKAGES=(
   minizinc libgecode-dev
   libcurl4-openssl-dev libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
 )
+if [ "${1:-}" = "--test" ]; then
+  PACKAGES+=(chromium)
+  command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
+fi
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
