@@ -10,19 +10,13 @@
 
 #include <gtest/gtest.h>
 
+#include "../process_count.h"
+
 namespace ctb {
 namespace {
 
 // Processes named like the solver still running (none may survive a job).
-int SolverProcesses() {
-  int n = 0;
-  for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-    std::string comm;
-    std::ifstream in(e.path() / "comm");
-    if (in >> comm && (comm == "fzn-gecode" || comm == "minizinc")) ++n;
-  }
-  return n;
-}
+using ctb::testing::SolverProcesses;
 
 // A model with no quick proof: find many distinct values with a weak objective.
 const char* kHard = R"(

@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../process_count.h"
+
 #include "../planner/test_util.h"
 #include "../translator/mock_llm.h"
 
@@ -44,15 +46,7 @@ int FreePort() {
   return port;
 }
 
-int SolverProcesses() {
-  int n = 0;
-  for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-    std::ifstream in(e.path() / "comm");
-    std::string comm;
-    if (in >> comm && (comm == "fzn-gecode" || comm == "minizinc")) ++n;
-  }
-  return n;
-}
+using ctb::testing::SolverProcesses;
 
 // The server as a child process.
 class Server {
