@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "client/commands.h"
+#include "server/log_context.h"
 #include "server/service.h"
 
 namespace ctb::cli {
@@ -17,8 +18,8 @@ struct ServeOptions {
 
 int RunServe(const ServeOptions& o) {
   spdlog::set_level(spdlog::level::info);
-  // One JSON object per line: {"ts", "level", "log": <the message: a JSON object for requests>}.
-  spdlog::set_pattern(R"({"ts":"%Y-%m-%dT%H:%M:%S.%e","level":"%l","log":%v})");
+  // One JSON object per line: {"ts", "level", "request_id", "log": <the message>}.
+  server::InstallJsonLogPattern();
   auto cfg = server::ServerConfig::Load(o.config_file);
   if (auto* e = std::get_if<Error>(&cfg)) {
     std::cerr << "error: " << e->ToString() << "\n";

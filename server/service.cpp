@@ -16,6 +16,7 @@
 #include "planner/runner.h"
 #include "planner/solve.h"
 #include "server/conn_watch.h"
+#include "server/log_context.h"
 #include "server/metrics.h"
 #include "translator/pipeline.h"
 
@@ -178,6 +179,7 @@ class Service {
     return [this, route, fn](const httplib::Request& req, httplib::Response& res) {
       auto t0 = Clock::now();
       ++in_flight_;
+      SetThreadRequestId(res.get_header_value("X-Request-Id"));
       try {
         fn(req, res);
       } catch (const std::exception& e) {
@@ -188,9 +190,10 @@ class Service {
       if (res.status == -1) res.status = 200;
       double secs = std::chrono::duration<double>(Clock::now() - t0).count();
       metrics_.Request(route, res.status, secs);
-      spdlog::info("{}", Json({{"event", "request"}, {"request_id", res.get_header_value("X-Request-Id")},
-                               {"method", req.method}, {"path", req.path}, {"route", route},
-                               {"status", res.status}, {"ms", std::lround(secs * 1000)}}).dump());
+      spdlog::info("{}", Json({{"event", "request"}, {"method", req.method}, {"path", req.path},
+                               {"route", route}, {"status", res.status},
+                               {"ms", std::lround(secs * 1000)}}).dump(-1, ' ', false, Json::error_handler_t::replace));
+      SetThreadRequestId("");
     };
   }
 
@@ -271,10 +274,14 @@ class Service {
     }
     std::atomic<bool> job_cancel{false}, done{false};
     o.cancel = &job_cancel;
+    const std::string request_id = ThreadRequestId();  // the sanitized one, set by Wrap()
     std::thread watch([&] {
       while (!done) {
         if (cancel_ || !ClientConnected(req.local_port, req.remote_port)) {
-          if (!cancel_) spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", req.remote_port}}).dump());
+          if (!cancel_) {
+            SetThreadRequestId(request_id);
+            spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", req.remote_port}}).dump());
+          }
           job_cancel = true;
           return;
         }

@@ -51,7 +51,8 @@ using ctb::testing::SolverProcesses;
 // The server as a child process.
 class Server {
  public:
-  explicit Server(std::vector<std::pair<std::string, std::string>> env = {}, Json config = Json::object()) {
+  explicit Server(std::vector<std::pair<std::string, std::string>> env = {}, Json config = Json::object(),
+                  std::string log_path = "") {
     port_ = FreePort();
     std::string cfg_path;
     if (!config.empty()) {
@@ -67,6 +68,10 @@ class Server {
       std::string port = std::to_string(port_);
       int devnull = open("/dev/null", O_WRONLY);
       dup2(devnull, 1);
+      if (!log_path.empty()) {
+        int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(log, 2);
+      }
       if (cfg_path.empty())
         execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), nullptr);
       else
@@ -253,6 +258,30 @@ TEST(Service, RequestIdIsEchoedOrMade) {
   EXPECT_EQ(r->get_header_value("X-Request-Id"), "abc-123");
   auto made = c.Get("/healthz", {{"X-Request-Id", "bad id with spaces"}});
   EXPECT_EQ(made->get_header_value("X-Request-Id").size(), 16u);
+}
+
+TEST(Service, OneJsonLogLinePerRequestWithItsId) {
+  std::string log = "/tmp/ctb-server-log-" + std::to_string(getpid()) + ".txt";
+  {
+    Server s({}, Json::object(), log);
+    s.Client().Post("/solve", {{"X-Request-Id", "log-check-1"}}, "{bad", "application/json");
+  }
+  std::ifstream in(log);
+  std::string line;
+  int lines = 0, mine = 0;
+  while (std::getline(in, line)) {
+    Json j = Json::parse(line, nullptr, false);
+    EXPECT_FALSE(j.is_discarded()) << "not JSON: " << line;
+    ++lines;
+    if (!j.is_discarded() && j.value("request_id", "") == "log-check-1" && j["log"]["event"] == "request") {
+      ++mine;
+      EXPECT_EQ(j["log"]["status"], 400);
+      EXPECT_EQ(j["log"]["route"], "/solve");
+    }
+  }
+  EXPECT_GT(lines, 2);
+  EXPECT_EQ(mine, 1);
+  std::filesystem::remove(log);
 }
 
 TEST(Service, MetricsCountRequests) {
