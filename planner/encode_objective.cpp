@@ -1,7 +1,21 @@
 // The objective (thesis 3.6, contract section 3) and the search strategy.
 #include <string>
+#include <tuple>
 
 #include "planner/encoder.h"
+
+namespace ctb {
+
+std::pair<long, long> ObjectiveFactors(Objective objective, long time_bound) {
+  switch (objective) {
+    case Objective::kCost: return {1, 0};
+    case Objective::kMakespan: return {0, 1};
+    case Objective::kCostThenMakespan: return {time_bound + 1, 1};
+  }
+  return {1, 0};
+}
+
+}  // namespace ctb
 
 namespace ctb::encode {
 
@@ -42,24 +56,11 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
   o += "var 0..T: makespan = e[H];  % padding events keep e[g]'s time\n";
   if (c.opts.redundant)
     o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
-  std::string obj;
-  switch (c.opts.objective) {
-    case Objective::kCost:
-      obj = "cost";
-      enc.objective_cost_factor = 1;
-      enc.objective_makespan_factor = 0;
-      break;
-    case Objective::kMakespan:
-      obj = "makespan";
-      enc.objective_cost_factor = 0;
-      enc.objective_makespan_factor = 1;
-      break;
-    case Objective::kCostThenMakespan:
-      enc.objective_cost_factor = enc.time_bound + 1;
-      enc.objective_makespan_factor = 1;
-      obj = "cost * " + std::to_string(enc.objective_cost_factor) + " + makespan";
-      break;
-  }
+  std::tie(enc.objective_cost_factor, enc.objective_makespan_factor) =
+      ObjectiveFactors(c.opts.objective, enc.time_bound);
+  std::string obj = c.opts.objective == Objective::kCost       ? "cost"
+                    : c.opts.objective == Objective::kMakespan ? "makespan"
+                    : "cost * " + std::to_string(enc.objective_cost_factor) + " + makespan";
   o += "var int: objective = " + obj + ";\n";
   if (c.opts.better_than) o += "constraint objective < " + std::to_string(*c.opts.better_than) + ";\n";
   std::string search = c.opts.search == "default" ? "" : TimeOrderSearch(c);

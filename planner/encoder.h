@@ -11,6 +11,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,10 @@ struct Encoding {
 
 Encoding Encode(const Domain& d, const StatePlan& sp, const ProblemInfo& info,
                 const EncodeOptions& opts);
+
+// The objective in model units is cost * first + makespan_ticks * second. For
+// cost_then_makespan the cost weight depends on the horizon's time bound.
+std::pair<long, long> ObjectiveFactors(Objective objective, long time_bound);
 
 // ---- internal, shared by the emitters (encode_*.cpp) ----
 namespace encode {

@@ -158,9 +158,11 @@ class Solver {
     return static_cast<int>(std::min<long>(o_.max_horizon, budget / info_.min_cost));
   }
 
-  std::optional<long> BetterThan(const Encoding& enc, const std::optional<Plan>& than) const {
+  // The bound a strictly better plan must beat, in the units of a model with horizon h.
+  std::optional<long> BetterThan(int h, const std::optional<Plan>& than) const {
     if (!than) return std::nullopt;
-    return than->cost * enc.objective_cost_factor + than->makespan * enc.objective_makespan_factor;
+    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
+    return than->cost * cost_factor + than->makespan * makespan_factor;
   }
 
   std::vector<std::string> Strategies() const {
@@ -187,11 +189,8 @@ class Solver {
       eo.objective = objective_;
       eo.search = strategies[i];
       eo.redundant = o_.redundant;
+      eo.better_than = BetterThan(h, better);
       Encoding enc = Encode(d_, sp_, info_, eo);
-      if (auto b = BetterThan(enc, better)) {
-        eo.better_than = b;
-        enc = Encode(d_, sp_, info_, eo);
-      }
       if (i == 0) {
         last_model_ = enc.model;
         last_data_ = enc.data;
