@@ -71,16 +71,22 @@ class Replay {
     return (k >= a ? 1 : 0) + (k >= b ? 1 : 0);
   }
 
+  // An accepting automaton read at [i] in a condition of event (or stage) k: its state before k.
+  int AcceptingBefore(const Expr& atom, int k) const {
+    if (k == 0) return 0;
+    return atom.var_kind == VarKind::kEpisodeState ? EpisodeState(atom.target, k - 1)
+                                                   : TemporalState(atom.target, k - 1);
+  }
+  static bool IsAccepting(const Expr& atom) {
+    return atom.var_kind == VarKind::kEpisodeState || atom.var_kind == VarKind::kTemporalState;
+  }
+
   // A condition at event k (contract: "When a condition holds").
   bool AtEvent(const Condition& c, int k) const {
     const bool change = c.info.IsChange();
     if (change && k == 0) return false;
     return Evaluate(c.expr, [&](const Expr& atom) {
-      switch (atom.var_kind) {
-        case VarKind::kEpisodeState: return k == 0 ? 0 : EpisodeState(atom.target, k - 1);
-        case VarKind::kTemporalState: return k == 0 ? 0 : TemporalState(atom.target, k - 1);
-        default: break;
-      }
+      if (IsAccepting(atom)) return AcceptingBefore(atom, k);
       int stage = k;
       if (atom.index.kind == IndexKind::kFixed) stage = std::min(atom.index.fixed, g_);
       else if (change && atom.index.kind == IndexKind::kI) stage = k - 1;
@@ -91,11 +97,7 @@ class Replay {
   // A state constraint on stage k: [i] and [i+1] both name the stage.
   bool OnStage(const Condition& c, int k) const {
     return Evaluate(c.expr, [&](const Expr& atom) {
-      switch (atom.var_kind) {
-        case VarKind::kEpisodeState: return k == 0 ? 0 : EpisodeState(atom.target, k - 1);
-        case VarKind::kTemporalState: return k == 0 ? 0 : TemporalState(atom.target, k - 1);
-        default: break;
-      }
+      if (IsAccepting(atom)) return AcceptingBefore(atom, k);
       int stage = atom.index.kind == IndexKind::kFixed ? std::min(atom.index.fixed, g_) : k;
       return Value(atom, stage);
     });

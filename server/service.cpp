@@ -232,13 +232,12 @@ class Service {
     return std::make_shared<const Domain>(std::move(*dom));
   }
 
-  std::variant<SolveOptions, Error> Options(const Json& body, std::optional<Objective> plan_objective) {
+  std::variant<SolveOptions, Error> Options(const Json& body) {
     SolveOptions o;
     o.minizinc = cfg_.minizinc;
     o.time_limit_ms = cfg_.default_time_limit_ms;
     o.cancel = &cancel_;
     o.portfolio = 1;  // one core per job: the pool bounds concurrency
-    (void)plan_objective;
     if (!body.contains("options")) return o;
     Diagnostics d;
     ObjectReader r(body["options"], "/options", d);
@@ -315,7 +314,7 @@ class Service {
     if (!body->contains("state_plan")) return SendError(res, Bad("missing \"state_plan\"", "/state_plan"));
     auto sp = CheckPlan((*body)["state_plan"], domain, "/state_plan");
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
-    auto opts = Options(*body, std::nullopt);
+    auto opts = Options(*body);
     if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
     auto r = SolveGated(domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), req);
     if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
@@ -410,7 +409,7 @@ class Service {
     auto& tr = std::get<Translated>(t);
     auto sp = CheckPlan(tr.result.state_plan, *tr.domain, "/state_plan");
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
-    auto opts = Options(*body, std::nullopt);
+    auto opts = Options(*body);
     if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
     auto solved = SolveGated(*tr.domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), req);
     if (auto* e = std::get_if<Error>(&solved)) return SendError(res, *e);
