@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "planner/error.h"
+#include "planner/model/error.h"
 
 namespace ctb::cli {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <variant>
 
-#include "planner/error.h"
-#include "planner/json_io.h"
+#include "planner/model/error.h"
+#include "planner/model/json_io.h"
 
 namespace ctb::cli {
 

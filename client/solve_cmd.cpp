@@ -4,8 +4,8 @@
 
 #include "client/commands.h"
 #include "client/remote.h"
-#include "planner/catalog.h"
-#include "planner/solve.h"
+#include "planner/model/catalog.h"
+#include "planner/solve/solve.h"
 
 namespace ctb::cli {
 

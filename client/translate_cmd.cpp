@@ -3,7 +3,7 @@
 #include <string>
 
 #include "client/commands.h"
-#include "planner/catalog.h"
+#include "planner/model/catalog.h"
 #include "translator/pipeline.h"
 
 namespace ctb::cli {

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "client/commands.h"
-#include "planner/catalog.h"
-#include "planner/state_plan.h"
+#include "planner/model/catalog.h"
+#include "planner/model/state_plan.h"
 
 namespace ctb::cli {
 

@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "planner/catalog.h"
+#include "planner/model/catalog.h"
 #include "translator/pipeline.h"
 
 #ifndef CTB_BUILTIN_STATIC_DIR

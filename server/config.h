@@ -5,8 +5,8 @@
 #include <string>
 #include <variant>
 
-#include "planner/error.h"
-#include "planner/json_io.h"
+#include "planner/model/error.h"
+#include "planner/model/json_io.h"
 #include "translator/llm.h"
 
 namespace ctb::server {

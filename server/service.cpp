@@ -12,9 +12,9 @@
 #include <random>
 #include <thread>
 
-#include "planner/catalog.h"
-#include "planner/runner.h"
-#include "planner/solve.h"
+#include "planner/model/catalog.h"
+#include "planner/solve/runner.h"
+#include "planner/solve/solve.h"
 #include "server/conn_watch.h"
 #include "server/log_context.h"
 #include "server/metrics.h"

@@ -9,8 +9,8 @@
 #include <variant>
 #include <vector>
 
-#include "planner/error.h"
-#include "planner/json_io.h"
+#include "planner/model/error.h"
+#include "planner/model/json_io.h"
 
 namespace ctb {
 

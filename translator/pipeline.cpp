@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "planner/state_plan.h"
+#include "planner/model/state_plan.h"
 
 #ifndef CTB_BUILTIN_PROMPTS_DIR
 #define CTB_BUILTIN_PROMPTS_DIR "prompts"

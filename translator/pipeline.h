@@ -12,7 +12,7 @@
 #include <variant>
 #include <vector>
 
-#include "planner/domain.h"
+#include "planner/model/domain.h"
 #include "translator/llm.h"
 
 namespace ctb {

@@ -1,8 +1,8 @@
-#include "planner/decompose.h"
+#include "planner/solve/decompose.h"
 
 #include <gtest/gtest.h>
 
-#include "planner/solve.h"
+#include "planner/solve/solve.h"
 #include "test_util.h"
 
 namespace ctb {

@@ -1,4 +1,4 @@
-#include "planner/domain.h"
+#include "planner/model/domain.h"
 
 #include <cmath>
 

@@ -1,8 +1,8 @@
-#include "planner/encoder.h"
+#include "planner/encode/encoder.h"
 
 #include <gtest/gtest.h>
 
-#include "planner/runner.h"
+#include "planner/solve/runner.h"
 #include "test_util.h"
 
 namespace ctb {

@@ -1,8 +1,8 @@
-#include "planner/expr_check.h"
+#include "planner/model/expr_check.h"
 
 #include <gtest/gtest.h>
 
-#include "planner/expr_print.h"
+#include "planner/expr/expr_print.h"
 #include "test_util.h"
 
 namespace ctb {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "planner/expr.h"
+#include "planner/expr/expr.h"
 
 namespace ctb {
 namespace {

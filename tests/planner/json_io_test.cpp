@@ -1,4 +1,4 @@
-#include "planner/json_io.h"
+#include "planner/model/json_io.h"
 
 #include <gtest/gtest.h>
 

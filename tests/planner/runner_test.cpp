@@ -1,4 +1,4 @@
-#include "planner/runner.h"
+#include "planner/solve/runner.h"
 
 #include <dirent.h>
 

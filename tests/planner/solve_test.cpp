@@ -1,5 +1,5 @@
 // The figures ctburton must reproduce (issue 3), with the real minizinc and Gecode.
-#include "planner/solve.h"
+#include "planner/solve/solve.h"
 
 #include <gtest/gtest.h>
 

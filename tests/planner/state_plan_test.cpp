@@ -1,4 +1,4 @@
-#include "planner/state_plan.h"
+#include "planner/model/state_plan.h"
 
 #include <cmath>
 

@@ -6,9 +6,9 @@
 #include <map>
 #include <string>
 
-#include "planner/catalog.h"
-#include "planner/domain.h"
-#include "planner/state_plan.h"
+#include "planner/model/catalog.h"
+#include "planner/model/domain.h"
+#include "planner/model/state_plan.h"
 
 namespace ctb::testing {
 

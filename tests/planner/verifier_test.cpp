@@ -1,6 +1,6 @@
 // The verifier on a hand-built trajectory for the thesis' test prompt 1 (chain of thought), and
 // on hand-corrupted copies of it. Independent of the encoder and the solver.
-#include "planner/trajectory.h"
+#include "planner/verify/verify.h"
 
 #include <gtest/gtest.h>
 

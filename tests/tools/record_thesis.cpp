@@ -4,7 +4,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "planner/catalog.h"
+#include "planner/model/catalog.h"
 #include "translator/pipeline.h"
 
 namespace {

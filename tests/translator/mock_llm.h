@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "planner/json_io.h"
+#include "planner/model/json_io.h"
 
 namespace ctb::testing {
 

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
-#include "planner/solve.h"
+#include "planner/solve/solve.h"
 #include "translator/pipeline.h"
 
 namespace ctb {

@@ -1,0 +1,37 @@
+// Internal to the encoder: what the emitters (encode_*.cpp) share. Not a public header.
+#pragma once
+
+#include <string>
+
+#include "planner/encode/encoder.h"
+
+namespace ctb {
+namespace encode {
+
+struct Context {
+  const Domain& d;
+  const StatePlan& sp;
+  const ProblemInfo& info;
+  const EncodeOptions& opts;
+  std::string& out;
+  int H;
+};
+
+// How the stage of a domain variable is chosen when printing a condition.
+enum class CondMode {
+  kEvent,  // at event k: [i] -> stage k-1, [i+1] -> stage k (change); both -> k (state)
+  kStage,  // on stage k: [i] and [i+1] -> stage k
+  kGuard,  // guard on stage k: [i] -> k
+};
+
+// Prints e for the comprehension variable `k`, following the contract's "when a condition
+// holds" rules. For kEvent and a change condition the result is false at k = 0.
+std::string PrintCondition(const Context& c, const Expr& e, const ExprInfo& info, CondMode mode);
+
+void EmitHeader(const Context& c);
+void EmitAutomata(const Context& c);
+void EmitStatePlan(const Context& c);
+void EmitObjectiveAndSearch(const Context& c, Encoding& enc);
+
+}  // namespace encode
+}  // namespace ctb

@@ -1,0 +1,311 @@
+#include "planner/model/domain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "planner/model/expr_check.h"
+
+namespace ctb {
+
+bool IsIdentifier(const std::string& s) {
+  if (s.empty() || s.size() > 128) return false;
+  if (!(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return s != "not" && s != "true" && s != "false" && s != "i";
+}
+
+int Automaton::LocationIndex(const std::string& n) const {
+  auto it = std::find(locations.begin(), locations.end(), n);
+  return it == locations.end() ? -1 : static_cast<int>(it - locations.begin());
+}
+
+int Automaton::CommandCode(const std::string& n) const {
+  auto it = std::find(commands.begin(), commands.end(), n);
+  return it == commands.end() ? -1 : static_cast<int>(it - commands.begin()) + 1;
+}
+
+int Domain::AutomatonIndex(const std::string& n) const {
+  for (std::size_t i = 0; i < automata.size(); ++i)
+    if (automata[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+namespace {
+
+// Reads an array of unique identifiers.
+std::vector<std::string> ReadNames(const Json* j, const std::string& pointer, const char* what,
+                                   bool non_empty, Diagnostics& diags) {
+  std::vector<std::string> out;
+  if (!j) return out;
+  if (!j->is_array()) {
+    diags.Error(pointer, std::string("expected an array of ") + what + " names, got " +
+                             JsonTypeName(*j));
+    return out;
+  }
+  if (non_empty && j->empty()) diags.Error(pointer, std::string("needs at least one ") + what);
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < j->size(); ++i) {
+    const Json& v = (*j)[i];
+    std::string p = pointer + "/" + std::to_string(i);
+    if (!v.is_string()) {
+      diags.Error(p, std::string("expected a string, got ") + JsonTypeName(v));
+      continue;
+    }
+    std::string name = v.get<std::string>();
+    if (!IsIdentifier(name)) {
+      diags.Error(p, std::string("'") + name + "' is not a valid " + what +
+                         " name (letters, digits and '_', not starting with a digit)");
+      continue;
+    }
+    if (!seen.insert(name).second) {
+      diags.Error(p, std::string("duplicate ") + what + " '" + name + "'");
+      continue;
+    }
+    out.push_back(name);
+  }
+  return out;
+}
+
+bool IsMultiple(double v, double res) {
+  double q = v / res;
+  return std::fabs(q - std::round(q)) < 1e-9 * std::max(1.0, std::fabs(q));
+}
+
+// The command code a commanded guard requires: a positive atom "<own>u[i]==c" in the guard's
+// top-level conjunction. 0 when the guard reads the command some other way.
+int RequiredCommand(const Expr& e, int self) {
+  if (e.op == Expr::Op::kAtom)
+    return (e.var_kind == VarKind::kCommand && e.target == self && !e.not_equal) ? e.value_code : 0;
+  if (e.op == Expr::Op::kAnd) {
+    int l = RequiredCommand(e.kids[0], self), r = RequiredCommand(e.kids[1], self);
+    if (l && r) return l == r ? l : -1;  // two different commands: never enabled
+    return l ? l : r;
+  }
+  return 0;
+}
+
+void ReadTransition(const Json& j, const std::string& p, const Domain& d, int self,
+                    Automaton& a, Diagnostics& diags) {
+  ObjectReader r(j, p, diags);
+  if (!r.valid()) return;
+  r.CheckKeys({"from", "to", "guard", "duration", "cost", "controllable"});
+  Transition t;
+  t.pointer = p;
+  bool ok = true;
+  for (const char* end : {"from", "to"}) {
+    auto name = r.String(end, true);
+    if (!name) {
+      ok = false;
+      continue;
+    }
+    int loc = a.LocationIndex(*name);
+    if (loc < 0) {
+      std::string best = NearestName(*name, a.locations);
+      diags.Error(r.Child(end), "unknown location '" + *name + "' of automaton '" + a.name + "'" +
+                                    (best.empty() ? "" : " (did you mean '" + best + "'?)"));
+      ok = false;
+      continue;
+    }
+    (std::string(end) == "from" ? t.from : t.to) = loc;
+  }
+  if (ok && t.from == t.to) {
+    diags.Error(r.Child("to"), "a transition must change location ('" + a.locations[t.from] +
+                                   "' to itself); staying is implicit");
+    ok = false;
+  }
+  if (auto g = r.String("guard", false)) t.guard_text = *g;
+  Scope scope{&d, {}, {}};
+  ExprInfo info;
+  auto guard = ParseChecked(t.guard_text, scope, ExprContext::kGuard, r.Child("guard"), diags,
+                            &info);
+  if (guard) {
+    t.guard = std::move(*guard);
+    t.guard_info = info;
+    t.commanded = info.commands_read.count(self) > 0;
+    t.command = t.commanded ? std::max(0, RequiredCommand(t.guard, self)) : 0;
+  } else {
+    ok = false;
+  }
+  if (const Json* dur = r.Get("duration")) {
+    std::string dp = r.Child("duration");
+    if (!dur->is_array() || dur->size() != 2) {
+      diags.Error(dp, "expected [lo, hi] with hi a number or null");
+      ok = false;
+    } else {
+      auto lo = AsNonNegative((*dur)[0], dp + "/0", diags);
+      std::optional<double> hi;
+      bool hi_ok = true;
+      if (!(*dur)[1].is_null()) {
+        hi = AsNonNegative((*dur)[1], dp + "/1", diags);
+        hi_ok = hi.has_value();
+      }
+      if (!lo || !hi_ok) {
+        ok = false;
+      } else if (hi && *lo > *hi) {
+        diags.Error(dp, "duration lower bound " + (*dur)[0].dump() + " is greater than upper bound " +
+                            (*dur)[1].dump());
+        ok = false;
+      } else {
+        for (int k = 0; k < 2; ++k) {
+          if ((*dur)[k].is_null()) continue;
+          double v = (*dur)[k].get<double>();
+          if (v > 1e7) {
+            diags.Error(dp + "/" + std::to_string(k), "duration beyond 10,000,000 seconds");
+            ok = false;
+          } else if (!IsMultiple(v, d.time_resolution)) {
+            diags.Error(dp + "/" + std::to_string(k),
+                        "duration is not a multiple of the domain's time_resolution");
+            ok = false;
+          }
+        }
+        t.duration = {*lo, hi};
+      }
+    }
+  }
+  if (const Json* c = r.Get("cost")) {
+    if (!c->is_number_integer() && !c->is_number_unsigned()) {
+      diags.Error(r.Child("cost"), std::string("expected a non-negative integer, got ") +
+                                       (c->is_number() ? c->dump() : JsonTypeName(*c)));
+      ok = false;
+    } else if (c->get<long long>() < 0 || c->get<long long>() > 1000000) {
+      diags.Error(r.Child("cost"), "cost must be between 0 and 1,000,000");
+      ok = false;
+    } else {
+      t.cost = static_cast<long>(c->get<long long>());
+    }
+  }
+  if (auto c = r.Bool("controllable", false)) t.controllable = *c;
+  if (t.controllable && t.commanded) {
+    diags.Error(r.Child("controllable"),
+                "a commanded transition cannot also be controllable: its command already sets "
+                "when it fires");
+    ok = false;
+  }
+  if (ok) a.transitions.push_back(std::move(t));
+}
+
+}  // namespace
+
+std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
+  std::size_t errors_before = diags.errors().size();
+  ObjectReader r(j, "", diags);
+  if (!r.valid()) return std::nullopt;
+  r.CheckKeys({"name", "description", "time_resolution", "automata"});
+  Domain d;
+  if (auto n = r.String("name", true)) {
+    if (!IsIdentifier(*n)) diags.Error(r.Child("name"), "domain name must be an identifier");
+    d.name = *n;
+  }
+  if (auto desc = r.String("description", false)) d.description = *desc;
+  if (r.Has("time_resolution")) {
+    auto res = r.NonNegative("time_resolution", false);
+    if (res && (*res <= 0 || *res > 1)) {
+      diags.Error(r.Child("time_resolution"), "time_resolution must be in (0, 1] seconds");
+    } else if (res) {
+      if (!IsMultiple(1.0, *res))
+        diags.Error(r.Child("time_resolution"), "time_resolution must divide one second");
+      else
+        d.time_resolution = *res;
+    }
+  }
+  const Json* automata = r.Get("automata");
+  if (!automata) {
+    diags.Error(r.Child("automata"), "missing required field \"automata\"");
+    return std::nullopt;
+  }
+  if (!automata->is_array() || automata->empty()) {
+    diags.Error(r.Child("automata"), "expected a non-empty array of automata");
+    return std::nullopt;
+  }
+  // Pass 1: names, locations and commands of every automaton (guards may read any of them).
+  std::map<std::string, std::string> variable_owner;  // expression variable name -> automaton
+  std::vector<const Json*> transition_lists;
+  for (std::size_t i = 0; i < automata->size(); ++i) {
+    std::string p = "/automata/" + std::to_string(i);
+    ObjectReader ar((*automata)[i], p, diags);
+    transition_lists.push_back(nullptr);
+    if (!ar.valid()) continue;
+    ar.CheckKeys({"name", "locations", "commands", "transitions"});
+    Automaton a;
+    auto name = ar.String("name", true);
+    if (!name) continue;
+    if (!IsIdentifier(*name)) {
+      diags.Error(ar.Child("name"), "'" + *name + "' is not a valid automaton name");
+      continue;
+    }
+    if (name->rfind(kEpisodeVarPrefix, 0) == 0 || name->rfind(kTemporalVarPrefix, 0) == 0) {
+      diags.Error(ar.Child("name"), "automaton name uses a prefix reserved for state plans");
+      continue;
+    }
+    bool clash = false;
+    for (const std::string& var : {*name, *name + "l", *name + "u"}) {
+      auto [it, inserted] = variable_owner.emplace(var, *name);
+      if (!inserted) {
+        diags.Error(ar.Child("name"), it->second == *name
+                                          ? "duplicate automaton '" + *name + "'"
+                                          : "automaton '" + *name + "' makes variable '" + var +
+                                                "' ambiguous with automaton '" + it->second + "'");
+        clash = true;
+        break;
+      }
+    }
+    if (clash) continue;
+    a.name = *name;
+    if (!ar.Has("locations")) diags.Error(ar.Child("locations"), "missing required field \"locations\"");
+    a.locations = ReadNames(ar.Get("locations"), ar.Child("locations"), "location", true, diags);
+    a.commands = ReadNames(ar.Get("commands"), ar.Child("commands"), "command", false, diags);
+    if (const Json* t = ar.Get("transitions")) {
+      if (!t->is_array()) diags.Error(ar.Child("transitions"), "expected an array of transitions");
+      else transition_lists.back() = t;
+    }
+    d.automata.push_back(std::move(a));
+  }
+  if (diags.errors().size() > errors_before) return std::nullopt;
+  // Pass 2: transitions.
+  for (std::size_t i = 0; i < d.automata.size(); ++i) {
+    const Json* list = transition_lists[i];
+    if (!list) continue;
+    for (std::size_t k = 0; k < list->size(); ++k)
+      ReadTransition((*list)[k], "/automata/" + std::to_string(i) + "/transitions/" + std::to_string(k),
+                     d, static_cast<int>(i), d.automata[i], diags);
+  }
+  if (diags.errors().size() > errors_before) return std::nullopt;
+  return d;
+}
+
+std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags) {
+  Diagnostics local;
+  auto j = ReadJsonFile(path, local);
+  std::optional<Domain> d;
+  if (j) d = LoadDomain(*j, local);
+  for (const auto& e : local.errors())
+    diags.Error(e.pointer, path + ": " + e.message, e.offset);
+  for (const auto& w : local.warnings())
+    diags.Warning(w.pointer, path + ": " + w.message, w.offset);
+  return d;
+}
+
+Json DomainToJson(const Domain& d) {
+  Json out = {{"name", d.name}, {"description", d.description}};
+  if (d.time_resolution != 1.0) out["time_resolution"] = d.time_resolution;
+  Json automata = Json::array();
+  for (const auto& a : d.automata) {
+    Json ts = Json::array();
+    for (const auto& t : a.transitions) {
+      Json tj = {{"from", a.locations[t.from]}, {"to", a.locations[t.to]}, {"guard", t.guard_text},
+                 {"duration", {t.duration.lo, t.duration.hi ? Json(*t.duration.hi) : Json()}},
+                 {"cost", t.cost}};
+      if (t.controllable) tj["controllable"] = true;
+      ts.push_back(std::move(tj));
+    }
+    automata.push_back({{"name", a.name}, {"locations", a.locations}, {"commands", a.commands},
+                        {"transitions", std::move(ts)}});
+  }
+  out["automata"] = std::move(automata);
+  return out;
+}
+
+}  // namespace ctb

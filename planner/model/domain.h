@@ -1,0 +1,64 @@
+// The action model (a domain): parameterized concurrent timed automata (contract section 2).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planner/model/error.h"
+#include "planner/expr/expr.h"
+#include "planner/expr/expr_info.h"
+#include "planner/model/json_io.h"
+
+namespace ctb {
+
+struct Duration {
+  double lo = 0;
+  std::optional<double> hi;  // nullopt: unbounded
+};
+
+struct Transition {
+  int from = -1;  // location indices within the automaton
+  int to = -1;
+  std::string guard_text = "true";
+  Expr guard;               // checked: every atom resolved
+  ExprInfo guard_info;      // what the guard reads
+  Duration duration;
+  long cost = 1;
+  bool controllable = false;
+  bool commanded = false;   // derived: the guard reads the automaton's own command
+  int command = 0;          // derived: the command code the guard requires (0: none or several)
+  std::string pointer;      // JSON pointer of the transition, for messages
+};
+
+struct Automaton {
+  std::string name;
+  std::vector<std::string> locations;
+  std::vector<std::string> commands;  // code 0 is the implicit no-op; commands[c] has code c+1
+  std::vector<Transition> transitions;
+
+  int LocationIndex(const std::string& n) const;  // -1 when absent
+  int CommandCode(const std::string& n) const;    // 1-based; -1 when absent
+};
+
+struct Domain {
+  std::string name;
+  std::string description;
+  double time_resolution = 1.0;  // seconds per solver time unit
+  std::vector<Automaton> automata;
+
+  int AutomatonIndex(const std::string& n) const;  // -1 when absent
+};
+
+// Loads and checks a domain. On any error returns nullopt with every problem in diags, each at
+// the JSON pointer of the offending value (and the offset inside a guard string). Never throws.
+std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags);
+std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags);
+
+// Serializes a loaded domain back to the contract's JSON (for GET /domains/{name}).
+Json DomainToJson(const Domain& d);
+
+// True when s is a name usable in expressions: [A-Za-z_][A-Za-z0-9_]*, not a keyword.
+bool IsIdentifier(const std::string& s);
+
+}  // namespace ctb

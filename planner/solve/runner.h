@@ -1,0 +1,54 @@
+// Runs `minizinc --solver gecode` on a model and a JSON data file as a child process.
+//
+// Contract: the child gets argv (no shell), its own temporary directory as cwd and TMPDIR,
+// stdin from /dev/null; stdout (one JSON object per line, --json-stream) and stderr (bounded)
+// are drained as they come; intermediate solutions reach the callback in order. At the time
+// limit (plus a grace period for minizinc's own --time-limit to act) the child gets SIGTERM, then
+// SIGKILL; any process still running in the job's directory (fzn-gecode) is killed too. The
+// child is always reaped and the directory removed. Never throws; an unusable setup is a
+// RunResult with status kError and a clean message. Thread-safe: each call is independent.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "planner/model/json_io.h"
+
+namespace ctb {
+
+struct RunRequest {
+  std::string model;
+  Json data;
+  long time_limit_ms = 10000;
+  std::string minizinc = "minizinc";  // executable (PATH lookup)
+  std::string solver = "gecode";
+  int threads = 1;
+  // Called with the "json" output of every solution as it arrives (anytime use).
+  std::function<void(const Json& solution)> on_solution;
+  // Checked every 50 ms; when it becomes true the child is stopped as at the time limit.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct RunResult {
+  enum class Status { kOptimal, kFeasible, kInfeasible, kUnknown, kCancelled, kError };
+  Status status = Status::kError;
+  std::optional<Json> best;   // last solution's "json" output
+  int solutions = 0;
+  long elapsed_ms = 0;
+  long first_solution_ms = -1;
+  std::string error;          // clean, one line; never raw solver text
+  std::string solver_stderr;  // bounded (16 KiB), for logs only
+  Json statistics = Json::object();
+  bool killed = false;        // the child had to be signalled
+};
+
+const char* RunStatusName(RunResult::Status s);
+
+RunResult RunMiniZinc(const RunRequest& req);
+
+// True when `minizinc --version` runs (for readiness checks).
+bool MiniZincAvailable(const std::string& minizinc = "minizinc");
+
+}  // namespace ctb

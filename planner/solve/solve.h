@@ -1,0 +1,47 @@
+// Solving a state-planning problem end to end: horizon search, MiniZinc + Gecode, extraction,
+// independent verification (contract sections 2, 3, 5).
+//
+// "Could not run" (bad options, a solver failure, a trajectory that fails verification) is an
+// Error; "ran and answered" is a trajectory JSON whose status is optimal, feasible, infeasible
+// or unknown. Never throws. Thread-safe: calls share nothing.
+#pragma once
+
+#include <atomic>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "planner/model/domain.h"
+#include "planner/model/error.h"
+#include "planner/model/state_plan.h"
+
+namespace ctb {
+
+constexpr int kMaxHorizonLimit = 200;
+
+struct SolveOptions {
+  std::optional<Objective> objective;  // overrides the state plan's
+  std::optional<int> horizon;          // a fixed number of events
+  int max_horizon = 32;                // the most events tried (horizon growth)
+  long time_limit_ms = 60000;          // for the whole solve
+  std::string minizinc = "minizinc";
+  int threads = 1;
+  bool decompose = true;               // solve independent parts separately and merge
+  bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
+  bool redundant = true;               // the encoder's redundant constraints (bench only)
+  // "portfolio" runs `portfolio` strategies at once (one core each) and keeps the first proof;
+  // or one strategy: g_first, tc_first, first_fail, transitions_first, default (Gecode's own).
+  std::string search = "portfolio";
+  int portfolio = 2;
+  long portfolio_delay_ms = 300;       // the second strategy starts only after this
+  std::string model_out;               // when set, the last model is written here (+ .json data)
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Checks the options themselves (ranges); errors carry the option's name as pointer.
+std::optional<Error> ValidateSolveOptions(const SolveOptions& o);
+
+// Returns the trajectory JSON (contract section 5) or an Error.
+std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o);
+
+}  // namespace ctb

@@ -1,0 +1,17 @@
+// The independent verifier: replays a trajectory against the contract's semantics. It depends on
+// the model and expression libraries only (never on the encoder), which the build enforces.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "planner/model/trajectory.h"
+
+namespace ctb {
+
+// Independent replay against the contract's semantics (sections 2 and 3). Returns every
+// violation found; empty means the trajectory is a valid plan for the state plan.
+std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
+                                          const StatePlan& sp, long ticks_per_second);
+
+}  // namespace ctb
