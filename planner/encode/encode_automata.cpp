@@ -121,7 +121,10 @@ void EmitAutomatic(const Context& c) {
 // padding events keep e[g]'s time.
 void EmitConcise(const Context& c) {
   c.out += "% concise runs\n";
-  c.out += "constraint forall(k in 0..H-1)((k < g) <-> exists(a in 1..NA)(X[a,k] > 0));\n";
+  if (c.opts.idle_events)
+    c.out += "constraint forall(k in 0..H-1)(exists(a in 1..NA)(X[a,k] > 0) -> k < g);  % relaxed\n";
+  else
+    c.out += "constraint forall(k in 0..H-1)((k < g) <-> exists(a in 1..NA)(X[a,k] > 0));\n";
   c.out += "constraint forall(k in 0..H-1)(k >= g -> e[k+1] = e[k]);\n";
 }
 

@@ -52,9 +52,10 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
   if (c.opts.redundant)
     o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,H] - CS[a,k] >= CDIST[a, L[a,k], "
          "L[a,H]]);  % redundant\n";
-  o += "var 0..MAXCOST: cost = sum(a in 1..NA)(CS[a,H]);\n";
+  // Several automata may fire at one event: the total is bounded by NA times one's bound.
+  o += "var 0..NA*MAXCOST: cost = sum(a in 1..NA)(CS[a,H]);\n";
   o += "var 0..T: makespan = e[H];  % padding events keep e[g]'s time\n";
-  if (c.opts.redundant)
+  if (c.opts.redundant && !c.opts.idle_events)
     o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
   std::tie(enc.objective_cost_factor, enc.objective_makespan_factor) =
       ObjectiveFactors(c.opts.objective, enc.time_bound);

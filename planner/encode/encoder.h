@@ -50,6 +50,9 @@ struct EncodeOptions {
   // The redundant constraints (entry <= event time, minimum time between locations, cost-to-go,
   // cost >= events); off only to measure what they bring (bench/).
   bool redundant = true;
+  // Relaxed runs: events before g may carry no transition (a part's events that another part
+  // makes). Used only to prove lower bounds for the split (docs/encoding.md).
+  bool idle_events = false;
 };
 
 struct Encoding {

@@ -4,7 +4,7 @@
 #include <map>
 #include <numeric>
 
-#include "planner/expr/expr_print.h"
+#include "planner/expr/normalize.h"
 
 namespace ctb {
 
@@ -38,6 +38,47 @@ void Reads(const Expr& e, ExprInfo& info) {
     }
   }
   for (const auto& k : e.kids) Reads(k, info);
+}
+
+// Renames the automata, episodes and temporal constraints an expression reads to a part's
+// indices.
+struct Remap {
+  const std::vector<int>& automaton;
+  const std::vector<int>& episode;
+  const std::vector<int>& temporal;
+
+  void operator()(Expr& e) const {
+    for (auto& k : e.kids) (*this)(k);
+    if (e.op != Expr::Op::kAtom) return;
+    switch (e.var_kind) {
+      case VarKind::kLocation:
+      case VarKind::kCommand: e.target = automaton[e.target]; break;
+      case VarKind::kEpisodeState: e.target = episode[e.target]; break;
+      case VarKind::kTemporalState: e.target = temporal[e.target]; break;
+      case VarKind::kUnresolved: break;
+    }
+  }
+  // A part's conditions are their normalised trees (which mean what the originals do, with the
+  // original classification kept in info): the originals may read automata of other parts
+  // inside a tautology. The merged plan is verified against the originals.
+  void operator()(Condition& c) const {
+    (*this)(c.expr);
+    c.raw = c.expr;
+    c.raw_info = c.info;
+    ExprInfo reads = InfoOf(c.expr);
+    reads.domain_uses_i = c.info.domain_uses_i;
+    reads.domain_uses_i1 = c.info.domain_uses_i1;
+    reads.uses_fixed = c.info.uses_fixed;
+    c.info = reads;
+    c.raw_info = reads;
+  }
+};
+
+Condition TrueCondition(const std::string& pointer) {
+  Condition c;
+  c.text = "true";
+  c.pointer = pointer;
+  return c;
 }
 
 }  // namespace
@@ -103,53 +144,80 @@ std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
     return it == part_of_root.end() ? 0 : it->second;
   };
   std::vector<SubProblem> parts(automata.size());
-  const Json dj = DomainToJson(d), spj = StatePlanToJson(sp, d);
   for (std::size_t k = 0; k < parts.size(); ++k) {
+    const int kk = static_cast<int>(k);
     SubProblem& sub = parts[k];
     sub.automata = automata[k];
-    Json sdj = dj;
-    sdj["name"] = d.name + "_part" + std::to_string(k + 1);
-    sdj["automata"] = Json::array();
-    Json init = Json::object();
-    for (int a : sub.automata) {
-      sdj["automata"].push_back(dj["automata"][a]);
-      init[d.automata[a].name] = d.automata[a].locations[sp.initial[a]];
-    }
-    std::string goal_text;
-    for (int c = 0; c < ng; ++c)
-      if (part(gc(c)) == static_cast<int>(k))
-        goal_text += (goal_text.empty() ? "" : " /\\ ") + PrintSource(*goal[c]);
-    Json eps = Json::object(), tcs = Json::object(), evs = Json::object();
+    std::vector<int> local(na, -1), ep_local(ne, -1), tc_local(nq, -1);
+    for (std::size_t j = 0; j < sub.automata.size(); ++j) local[sub.automata[j]] = static_cast<int>(j);
     for (int p = 0; p < ne; ++p)
-      if (part(ep(p)) == static_cast<int>(k))
-        eps[sp.episodes[p].name] = spj["constraints"]["episodes"][sp.episodes[p].name];
+      if (part(ep(p)) == kk) {
+        ep_local[p] = static_cast<int>(sub.episode_map.size());
+        sub.episode_map.push_back(p);
+      }
     for (int q = 0; q < nq; ++q)
-      if (part(tc(q)) == static_cast<int>(k))
-        tcs[sp.temporals[q].name] = spj["constraints"]["temporal"][sp.temporals[q].name];
+      if (part(tc(q)) == kk) {
+        tc_local[q] = static_cast<int>(sub.temporal_map.size());
+        sub.temporal_map.push_back(q);
+      }
+    // Every name an expression of this part reads is in the part (that is how parts are made).
+    Remap remap{local, ep_local, tc_local};
+    Domain& sd = sub.domain;
+    sd.name = d.name + "_part" + std::to_string(k + 1);
+    sd.description = d.description;
+    sd.time_resolution = d.time_resolution;
+    StatePlan& ssp = sub.plan;
+    ssp.objective = sp.objective;
+    for (int a : sub.automata) {
+      Automaton au = d.automata[a];
+      for (auto& t : au.transitions) {
+        remap(t.guard);
+        t.guard_info = InfoOf(t.guard);
+      }
+      sd.automata.push_back(std::move(au));
+      ssp.initial.push_back(sp.initial[a]);
+    }
+    ssp.maintenance = TrueCondition(sp.maintenance.pointer);
+    ssp.goal = TrueCondition(sp.goal.pointer);
+    for (int c = 0; c < ng; ++c) {
+      if (part(gc(c)) != kk) continue;
+      Expr e = *goal[c];
+      remap(e);
+      if (ssp.goal.expr.op == Expr::Op::kTrue) {
+        ssp.goal.expr = std::move(e);
+      } else {
+        Expr both;
+        both.op = Expr::Op::kAnd;
+        both.kids = {std::move(ssp.goal.expr), std::move(e)};
+        ssp.goal.expr = std::move(both);
+      }
+    }
+    ssp.goal.info = InfoOf(ssp.goal.expr);  // a state condition: change goals are never split
+    ssp.goal.raw = ssp.goal.expr;
+    ssp.goal.raw_info = ssp.goal.info;
+    for (int p : sub.episode_map) {
+      Episode e = sp.episodes[p];
+      remap(e.accepting);
+      remap(e.state);
+      ssp.episodes.push_back(std::move(e));
+    }
+    for (int q : sub.temporal_map) {
+      Temporal t = sp.temporals[q];
+      remap(t.event1);
+      remap(t.event2);
+      ssp.temporals.push_back(std::move(t));
+    }
     for (const auto& ev : sp.events) {
       const Endpoint& e0 = ev.endpoints[0];
-      int node = e0.kind == EndpointKind::kEpisodeStart || e0.kind == EndpointKind::kEpisodeEnd
-                     ? ep(e0.index) : tc(e0.index);
-      if (part(node) == static_cast<int>(k)) evs[ev.name] = spj["constraints"]["event"][ev.name];
+      const bool is_ep = e0.kind == EndpointKind::kEpisodeStart || e0.kind == EndpointKind::kEpisodeEnd;
+      if (part(is_ep ? ep(e0.index) : tc(e0.index)) != kk) continue;
+      SharedEvent se = ev;
+      for (auto& x : se.endpoints) {
+        const bool x_ep = x.kind == EndpointKind::kEpisodeStart || x.kind == EndpointKind::kEpisodeEnd;
+        x.index = x_ep ? ep_local[x.index] : tc_local[x.index];
+      }
+      ssp.events.push_back(std::move(se));
     }
-    Json sspj = {{"initial_state", init},
-                 {"end_state", {{"maintenance_constraint", "true"},
-                                {"goal_constraint", goal_text.empty() ? "true" : goal_text}}},
-                 {"constraints", {{"episodes", eps}, {"temporal", tcs}, {"event", evs}}},
-                 {"objective", ObjectiveName(sp.objective)}};
-    Diagnostics diags;
-    auto sd = LoadDomain(sdj, diags);
-    if (!sd) return {};
-    auto ssp = LoadStatePlan(sspj, *sd, diags);
-    if (!ssp) return {};
-    sub.domain = std::move(*sd);
-    sub.plan = std::move(*ssp);
-    for (const auto& e : sub.plan.episodes)
-      for (int p = 0; p < ne; ++p)
-        if (sp.episodes[p].name == e.name) sub.episode_map.push_back(p);
-    for (const auto& t : sub.plan.temporals)
-      for (int q = 0; q < nq; ++q)
-        if (sp.temporals[q].name == t.name) sub.temporal_map.push_back(q);
   }
   return parts;
 }

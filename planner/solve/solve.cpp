@@ -1,366 +1,26 @@
 #include "planner/solve/solve.h"
 
-#include <unistd.h>
-
-#include <chrono>
 #include <cmath>
-#include <deque>
-#include <fstream>
-#include <map>
-#include <future>
 
-#include <spdlog/spdlog.h>
-
-#include "planner/solve/decompose.h"
 #include "planner/encode/encoder.h"
-#include "planner/solve/runner.h"
-#include "planner/encode/extract.h"
-#include "planner/verify/verify.h"
+#include "planner/solve/backend.h"
+#include "planner/solve/decompose.h"
+#include "planner/solve/horizon_solver.h"
+#include "planner/solve/parts.h"
 
 namespace ctb {
 
+using solve::Clock;
+using solve::Core;
+using solve::MsSince;
+using solve::SolveOneModel;
+using solve::SolveParts;
+
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
-
-// Shortest number of transitions from `from` to `to` in an automaton's graph (guards ignored),
-// or -1 when unreachable.
-int Distance(const Automaton& a, int from, int to) {
-  std::vector<int> dist(a.locations.size(), -1);
-  std::deque<int> q{from};
-  dist[from] = 0;
-  while (!q.empty()) {
-    int l = q.front();
-    q.pop_front();
-    if (l == to) return dist[l];
-    for (const auto& t : a.transitions)
-      if (t.from == l && dist[t.to] < 0) {
-        dist[t.to] = dist[l] + 1;
-        q.push_back(t.to);
-      }
-  }
-  return -1;
-}
-
-// Locations the goal requires: positive location atoms in its top-level conjunction.
-void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
-  if (e.op == Expr::Op::kAnd) {
-    RequiredLocations(e.kids[0], out);
-    RequiredLocations(e.kids[1], out);
-  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
-             e.index.kind != IndexKind::kFixed) {
-    out.emplace_back(e.target, e.value_code);
-  }
-}
-
-struct Plan {
-  Trajectory traj;
-  long cost = 0;
-  long makespan = 0;  // ticks
-};
-
-// What one solve found, before it is turned into the answer JSON.
-struct Core {
-  std::string status = "unknown";
-  std::optional<Plan> best;
-  int horizon = 0;
-  int runs = 0;
-  long compile_ms = 0;
-  long variables = 0;
-  long first_solution_ms = -1;
-  std::optional<Error> error;
-};
-
-class Solver {
- public:
-  Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
-      : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
-        objective_(o.objective.value_or(sp.objective)), t0_(Clock::now()) {}
-
-  Core Run() {
-    std::string status;
-    if (o_.horizon) {
-      auto r = Attempt(*o_.horizon, std::nullopt);
-      if (error_) return Fail();
-      status = r == Outcome::kOptimal    ? "optimal"
-               : r == Outcome::kInfeasible ? "infeasible"
-               : best_                   ? "feasible"
-                                         : "unknown";
-      return Finish(status);
-    }
-    // Grow the horizon until a plan exists.
-    int h = LowerBound();
-    Outcome r = Outcome::kInfeasible;
-    while (h <= o_.max_horizon) {
-      r = Attempt(h, std::nullopt);
-      if (error_) return Fail();
-      if (r != Outcome::kInfeasible) break;
-      // A model with horizon h holds every plan with at most h events, so doubling loses
-      // nothing; the last try is max_horizon itself, which proves infeasibility.
-      if (h >= o_.max_horizon) break;
-      h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
-    }
-    if (!best_) return Finish(r == Outcome::kInfeasible ? "infeasible" : "unknown");
-    if (r != Outcome::kOptimal) return Finish("feasible");
-    // Close optimality over every plan with at most max_horizon events.
-    int need = EventsForBetter();
-    if (need <= horizon_) return Finish("optimal");
-    r = Attempt(std::min(need, o_.max_horizon), best_);
-    if (error_) return Fail();
-    return Finish(r == Outcome::kOptimal || r == Outcome::kInfeasible ? "optimal" : "feasible");
-  }
-
- private:
-  enum class Outcome { kOptimal, kFeasible, kInfeasible, kUnknown };
-
-  // A justified lower bound on the number of events: an automaton takes at least as many
-  // transitions as the shortest way from its initial location through a location some episode
-  // or temporal constraint needs (a positive location atom of a top-level conjunction) to the
-  // location the goal pins it to, and each transition is at an event of its own.
-  int LowerBound() const {
-    const std::size_t na = d_.automata.size();
-    std::vector<int> final_loc(na, -1);
-    std::vector<std::pair<int, int>> req;
-    RequiredLocations(sp_.goal.expr, req);
-    for (auto [a, loc] : req) final_loc[a] = loc;
-    std::vector<std::pair<int, int>> visits;
-    for (const auto& e : sp_.episodes) RequiredLocations(e.accepting.expr, visits);
-    for (const auto& t : sp_.temporals) {
-      RequiredLocations(t.event1.expr, visits);
-      RequiredLocations(t.event2.expr, visits);
-    }
-    int lb = 0;
-    for (std::size_t a = 0; a < na; ++a) {
-      const Automaton& au = d_.automata[a];
-      const int init = sp_.initial[a];
-      auto via = [&](int v) {
-        int d1 = Distance(au, init, v);
-        if (d1 < 0) return 0;
-        if (final_loc[a] < 0) return d1;
-        int d2 = Distance(au, v, final_loc[a]);
-        return d2 < 0 ? d1 : d1 + d2;
-      };
-      if (final_loc[a] >= 0) lb = std::max(lb, std::max(0, Distance(au, init, final_loc[a])));
-      for (auto [b, v] : visits)
-        if (b == static_cast<int>(a)) lb = std::max(lb, via(v));
-    }
-    return std::min(lb, o_.max_horizon);
-  }
-
-  // The most events a strictly better plan can have: each event carries a transition of cost
-  // >= min_cost. Without a positive min_cost, or for makespan, max_horizon.
-  int EventsForBetter() const {
-    if (objective_ == Objective::kMakespan || info_.min_cost <= 0) return o_.max_horizon;
-    long budget = objective_ == Objective::kCost ? best_->cost - 1 : best_->cost;
-    return static_cast<int>(std::min<long>(o_.max_horizon, budget / info_.min_cost));
-  }
-
-  // The bound a strictly better plan must beat, in the units of a model with horizon h.
-  std::optional<long> BetterThan(int h, const std::optional<Plan>& than) const {
-    if (!than) return std::nullopt;
-    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
-    return than->cost * cost_factor + than->makespan * makespan_factor;
-  }
-
-  std::vector<std::string> Strategies() const {
-    if (o_.search != "portfolio") return {o_.search};
-    if (o_.portfolio <= 1) return {"g_first"};
-    return {"g_first", "tc_first"};
-  }
-
-  static bool Definitive(const RunResult& r) {
-    return r.status == RunResult::Status::kOptimal || r.status == RunResult::Status::kInfeasible ||
-           r.status == RunResult::Status::kError;
-  }
-
-  // Runs every strategy at horizon h at once; the first definitive answer (proof or error)
-  // stops the others. Returns the runs in strategy order.
-  std::vector<RunResult> RunPortfolio(int h, const std::optional<Plan>& better) {
-    std::vector<std::string> strategies = Strategies();
-    std::vector<RunRequest> reqs(strategies.size());
-    std::atomic<bool> stop{false};
-    long remaining = o_.time_limit_ms - MsSince(t0_);
-    for (std::size_t i = 0; i < strategies.size(); ++i) {
-      EncodeOptions eo;
-      eo.horizon = h;
-      eo.objective = objective_;
-      eo.search = strategies[i];
-      eo.redundant = o_.redundant;
-      eo.better_than = BetterThan(h, better);
-      Encoding enc = Encode(d_, sp_, info_, eo);
-      if (i == 0) {
-        last_model_ = enc.model;
-        last_data_ = enc.data;
-        WriteModelOut();
-      }
-      reqs[i].model = std::move(enc.model);
-      reqs[i].data = std::move(enc.data);
-      reqs[i].time_limit_ms = remaining;
-      reqs[i].minizinc = o_.minizinc;
-      reqs[i].threads = o_.threads;
-      reqs[i].cancel = &stop;
-    }
-    // The first strategy starts at once; the others only when it has not decided within
-    // portfolio_delay_ms, so easy problems do not pay for a second flattening.
-    std::vector<std::future<RunResult>> futures;
-    std::vector<std::optional<RunResult>> done(reqs.size());
-    std::size_t finished = 0;
-    const auto started = Clock::now();
-    auto launch = [&](std::size_t i) {
-      futures.push_back(std::async(std::launch::async, [&reqs, i] { return RunMiniZinc(reqs[i]); }));
-    };
-    launch(0);
-    while (finished < futures.size() || futures.size() < reqs.size()) {
-      if (futures.size() < reqs.size() && !stop &&
-          std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started).count() >=
-              o_.portfolio_delay_ms) {
-        reqs[futures.size()].time_limit_ms =
-            std::max(1L, o_.time_limit_ms - MsSince(t0_));
-        launch(futures.size());
-      }
-      for (std::size_t i = 0; i < futures.size(); ++i) {
-        if (done[i] || futures[i].wait_for(std::chrono::milliseconds(10)) != std::future_status::ready)
-          continue;
-        done[i] = futures[i].get();
-        ++finished;
-        if (Definitive(*done[i])) stop = true;
-      }
-      if (o_.cancel && o_.cancel->load()) stop = true;
-      if (stop && finished == futures.size()) break;
-    }
-    std::vector<RunResult> out;
-    for (auto& r : done)
-      if (r) out.push_back(std::move(*r));
-    runs_ += static_cast<int>(out.size());
-    return out;
-  }
-
-  Outcome Attempt(int h, const std::optional<Plan>& better) {
-    if (o_.time_limit_ms - MsSince(t0_) <= 0) return Outcome::kUnknown;
-    const long started = MsSince(t0_);
-    std::vector<RunResult> runs = RunPortfolio(h, better);
-    // Statistics from the first strategy's model (they all flatten the same constraints).
-    const RunResult& r0 = runs[0];
-    if (r0.statistics.contains("flatTime") && r0.statistics["flatTime"].is_number())
-      compile_ms_ += std::lround(r0.statistics["flatTime"].get<double>() * 1000);
-    if (r0.statistics.contains("flatIntVars") && r0.statistics["flatIntVars"].is_number())
-      variables_ = r0.statistics["flatIntVars"].get<long>() + r0.statistics.value("flatBoolVars", 0L);
-    for (const auto& r : runs)
-      if (first_solution_ms_ < 0 && r.first_solution_ms >= 0)
-        first_solution_ms_ = started + r.first_solution_ms;
-    if (o_.cancel && o_.cancel->load()) {
-      error_ = Error{ErrorCode::kUnavailable, "solve cancelled", {}};
-      return Outcome::kUnknown;
-    }
-    const RunResult* decided = nullptr;
-    for (const auto& r : runs)
-      if (Definitive(r) && !decided) decided = &r;
-    if (decided && decided->status == RunResult::Status::kError) {
-      // The raw solver text goes to the log only, never to clients.
-      spdlog::error("{}", Json(fmt::format("solver failure at horizon {}: {}; stderr: {}", h, decided->error,
-                    decided->solver_stderr)).dump());
-      error_ = Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
-      return Outcome::kUnknown;
-    }
-    // Keep the best verified solution of any run.
-    for (const auto& r : runs) {
-      if (!r.best) continue;
-      std::string why;
-      auto traj = ExtractTrajectory(*r.best, d_, sp_, h, why);
-      if (!traj) {
-        error_ = Error{ErrorCode::kInternal, "cannot read the solver's answer: " + why, {}};
-        return Outcome::kUnknown;
-      }
-      auto problems = VerifyTrajectory(*traj, d_, sp_, info_.ticks_per_second);
-      if (!problems.empty()) {
-        std::string where = SaveFailedModel();
-        spdlog::error("{}", Json(fmt::format("plan failed verification ({} problem(s), first: {}); model kept at {}",
-                      problems.size(), problems[0], where)).dump());
-        Error e{ErrorCode::kInternal,
-                "internal error: the solver's plan failed independent verification (model "
-                "kept at " + where + ")", {}};
-        for (const auto& p : problems) e.details.push_back({"", std::nullopt, p});
-        error_ = e;
-        return Outcome::kUnknown;
-      }
-      Plan p{*traj, TrajectoryCost(*traj, d_), traj->events.back()};
-      if (!best_ || Better(p, *best_)) {
-        best_ = p;
-        horizon_ = h;
-      }
-    }
-    if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
-                                                                        : Outcome::kInfeasible;
-    for (const auto& r : runs)
-      if (r.status == RunResult::Status::kFeasible) return Outcome::kFeasible;
-    return Outcome::kUnknown;
-  }
-
-  bool Better(const Plan& a, const Plan& b) const {
-    switch (objective_) {
-      case Objective::kCost: return a.cost < b.cost;
-      case Objective::kMakespan: return a.makespan < b.makespan;
-      case Objective::kCostThenMakespan:
-        return a.cost < b.cost || (a.cost == b.cost && a.makespan < b.makespan);
-    }
-    return false;
-  }
-
-  void WriteModelOut() const {
-    if (o_.model_out.empty()) return;
-    std::ofstream(o_.model_out) << last_model_;
-    std::ofstream(o_.model_out + ".json") << last_data_.dump(1) << "\n";
-  }
-
-  std::string SaveFailedModel() const {
-    const char* base = std::getenv("TMPDIR");
-    std::string path = std::string(base && *base ? base : "/tmp") + "/ctburton-unverified-" +
-                       std::to_string(getpid()) + "-" + std::to_string(runs_) + ".mzn";
-    std::ofstream(path) << last_model_;
-    std::ofstream(path + ".json") << last_data_.dump() << "\n";
-    return path;
-  }
-
-  Core Finish(const std::string& status) const {
-    Core c;
-    c.status = status;
-    c.best = best_;
-    c.horizon = horizon_;
-    c.runs = runs_;
-    c.compile_ms = compile_ms_;
-    c.variables = variables_;
-    c.first_solution_ms = first_solution_ms_;
-    return c;
-  }
-  Core Fail() const {
-    Core c = Finish("unknown");
-    c.error = error_;
-    return c;
-  }
-
-  const Domain& d_;
-  const StatePlan& sp_;
-  const SolveOptions& o_;
-  ProblemInfo info_;
-  Objective objective_;
-  Clock::time_point t0_;
-  std::optional<Plan> best_;
-  int horizon_ = 0;
-  std::optional<Error> error_;
-  std::string last_model_;
-  Json last_data_;
-  int runs_ = 0;
-  long compile_ms_ = 0;
-  long variables_ = 0;
-  long first_solution_ms_ = -1;
-};
-
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
-                int max_horizon, long elapsed_ms, const Json& extra_stats) {
+                int max_horizon, long elapsed_ms, const Json& extra_stats,
+                const char* solver_name) {
   const long tps = std::lround(1.0 / d.time_resolution);
   Json out;
   out["status"] = c.status;
@@ -387,7 +47,7 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
   }
   out["max_horizon"] = max_horizon;
   out["verified"] = c.best.has_value();
-  out["stats"] = {{"solver", "gecode"},
+  out["stats"] = {{"solver", solver_name},
                   {"compile_ms", c.compile_ms},
                   {"solve_ms", elapsed_ms},
                   {"first_solution_ms", c.first_solution_ms},
@@ -395,74 +55,6 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
                   {"solver_runs", c.runs}};
   for (auto& [k, v] : extra_stats.items()) out["stats"][k] = v;
   return out;
-}
-
-// Solves the parts one after the other (identical parts once: their encodings are equal, names
-// never reach a model), merges and verifies. nullopt: fall back to one model.
-std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
-                               const std::vector<SubProblem>& parts, const SolveOptions& o,
-                               Objective objective, Clock::time_point t0, Json& stats) {
-  SolveOptions po = o;
-  po.decompose = false;
-  po.objective = objective;
-  po.model_out.clear();
-  std::vector<Trajectory> plans;
-  std::map<std::string, Core> solved;  // encoding -> result
-  Core total;
-  total.status = "optimal";
-  int reused = 0;
-  for (const auto& part : parts) {
-    EncodeOptions eo;
-    eo.horizon = 4;
-    eo.objective = objective;
-    ProblemInfo info = Analyze(part.domain, part.plan);
-    Encoding enc = Encode(part.domain, part.plan, info, eo);
-    std::string key = enc.model + enc.data.dump();
-    Core c;
-    if (auto it = solved.find(key); it != solved.end() && o.reuse_identical_parts) {
-      c = it->second;
-      ++reused;
-    } else {
-      po.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
-      c = Solver(part.domain, part.plan, po).Run();
-      if (c.error) return c;
-      solved[key] = c;
-      total.runs += c.runs;
-      total.compile_ms += c.compile_ms;
-      total.variables += c.variables;
-    }
-    if (c.status == "infeasible") {
-      total.status = "infeasible";
-      total.best.reset();
-      return total;
-    }
-    if (!c.best) {
-      total.status = "unknown";
-      return total;
-    }
-    if (c.status != "optimal") total.status = "feasible";
-    plans.push_back(c.best->traj);
-  }
-  Trajectory merged = MergeTrajectories(parts, plans, d, sp);
-  const int limit = o.horizon ? *o.horizon : o.max_horizon;
-  stats["parts"] = parts.size();
-  stats["parts_reused"] = reused;
-  if (merged.goal_event > limit) {
-    spdlog::info("{}", Json(fmt::format("merged plan needs {} events, more than {}: solving as one model",
-                 merged.goal_event, limit)).dump(-1, ' ', false, Json::error_handler_t::replace));
-    stats["merge"] = "too many events";
-    return std::nullopt;
-  }
-  auto problems = VerifyTrajectory(merged, d, sp, std::lround(1.0 / d.time_resolution));
-  if (!problems.empty()) {
-    spdlog::info("{}", Json(fmt::format("merged plan failed verification ({}): solving as one model", problems[0])).dump(-1, ' ', false, Json::error_handler_t::replace));
-    stats["merge"] = "failed verification: " + problems[0];
-    return std::nullopt;
-  }
-  total.best = Plan{merged, TrajectoryCost(merged, d), merged.events.back()};
-  total.horizon = merged.goal_event;
-  total.first_solution_ms = MsSince(t0);
-  return total;
 }
 
 }  // namespace
@@ -488,25 +80,70 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid solve options", d);
 }
 
+std::optional<Error> CheckRepresentable(const Domain& d, const StatePlan& sp, Objective objective,
+                                        int max_horizon) {
+  const ProblemInfo info = Analyze(d, sp);
+  const long double h = std::max(1, max_horizon);
+  const long double t = static_cast<long double>(info.TimeBound(max_horizon));
+  long max_cost = 0;
+  std::string cost_ptr = "/options/max_horizon", time_ptr = "/options/max_horizon";
+  double longest = -1;
+  for (const auto& a : d.automata)
+    for (const auto& tr : a.transitions) {
+      if (tr.cost > max_cost) {
+        max_cost = tr.cost;
+        cost_ptr = tr.pointer + "/cost";
+      }
+      if (tr.duration.lo > longest) {
+        longest = tr.duration.lo;
+        time_ptr = tr.pointer + "/duration";
+      }
+    }
+  for (const auto& ep : sp.episodes)
+    if (ep.lower > longest) {
+      longest = ep.lower;
+      time_ptr = ep.accepting.pointer.substr(0, ep.accepting.pointer.rfind('/')) + "/lower_bound";
+    }
+  const long double cost = static_cast<long double>(d.automata.size()) * max_cost * h;
+  long double objective_max = objective == Objective::kCost       ? cost
+                              : objective == Objective::kMakespan ? t
+                                                                  : cost * (t + 1) + t;
+  auto fail = [&](const std::string& ptr, const std::string& what, long double v) {
+    Diagnostics diags;
+    diags.Error(ptr, what + " may reach " + std::to_string(static_cast<long long>(v)) +
+                         ", beyond the solver's integer range (" + std::to_string(kSolverIntMax) +
+                         "); use smaller costs, durations or bounds, a coarser time_resolution, "
+                         "or a smaller max_horizon");
+    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "the problem cannot be represented "
+                                  "in the solver's integers", diags);
+  };
+  if (t > kSolverIntMax) return fail(time_ptr, "the time bound (in ticks)", t);
+  if (objective_max > kSolverIntMax)
+    return fail(objective == Objective::kMakespan ? time_ptr : cost_ptr, "the objective", objective_max);
+  return std::nullopt;
+}
+
 std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   if (auto e = ValidateSolveOptions(o)) return *e;
   const auto t0 = Clock::now();
   const Objective objective = o.objective.value_or(sp.objective);
   const int max_h = o.horizon ? *o.horizon : o.max_horizon;
+  if (auto e = CheckRepresentable(d, sp, objective, max_h)) return *e;
+  const char* solver = (o.backend ? *o.backend : DefaultBackend()).Name();
   Json stats = Json::object();
   if (o.decompose) {
     std::vector<SubProblem> parts = SplitProblem(d, sp);
     if (parts.size() > 1) {
       auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
       if (c && c->error) return *c->error;
-      if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats);
+      if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver);
     }
   }
   SolveOptions mono = o;
   mono.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
-  Core c = Solver(d, sp, mono).Run();
+  Core c = SolveOneModel(d, sp, mono);
   if (c.error) return *c.error;
-  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats);
+  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
 }
 
 }  // namespace ctb

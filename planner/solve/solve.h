@@ -17,7 +17,11 @@
 
 namespace ctb {
 
+class SolverBackend;
+
 constexpr int kMaxHorizonLimit = 200;
+// Gecode's integer variables hold at most this (Gecode::Int::Limits::max).
+constexpr long kSolverIntMax = 2147483646;
 
 struct SolveOptions {
   std::optional<Objective> objective;  // overrides the state plan's
@@ -36,10 +40,19 @@ struct SolveOptions {
   long portfolio_delay_ms = 300;       // the second strategy starts only after this
   std::string model_out;               // when set, the last model is written here (+ .json data)
   const std::atomic<bool>* cancel = nullptr;
+  // The engine that solves each model; nullptr: MiniZinc with Gecode (backend.h). Not owned.
+  SolverBackend* backend = nullptr;
+  // Internal (the split's lower bounds): runs whose events may carry no transition.
+  bool idle_events = false;
 };
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.
 std::optional<Error> ValidateSolveOptions(const SolveOptions& o);
+
+// The time bound and the objective at max_horizon must fit the solver's integers; an Error
+// (kInvalidInput) names the transition or bound that makes them too large.
+std::optional<Error> CheckRepresentable(const Domain& d, const StatePlan& sp, Objective objective,
+                                        int max_horizon);
 
 // Returns the trajectory JSON (contract section 5) or an Error.
 std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o);

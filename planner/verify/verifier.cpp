@@ -166,7 +166,8 @@ class Replay {
           Fail(at + ": time in '" + au.locations[loc] + "' is outside the transition's duration");
         entry[a] = now;
       }
-      if (!any) Fail("event " + std::to_string(k) + " carries no transition (runs must be concise)");
+      if (!any && !allow_idle_)
+        Fail("event " + std::to_string(k) + " carries no transition (runs must be concise)");
     }
   }
 
@@ -257,13 +258,19 @@ class Replay {
   long tps_;
   int g_;
   std::vector<std::string> errors_;
+
+ public:
+  bool allow_idle_ = false;
 };
 
 }  // namespace
 
 std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
-                                          const StatePlan& sp, long ticks_per_second) {
-  return Replay(t, d, sp, ticks_per_second).Run();
+                                          const StatePlan& sp, long ticks_per_second,
+                                          bool allow_idle_events) {
+  Replay r(t, d, sp, ticks_per_second);
+  r.allow_idle_ = allow_idle_events;
+  return r.Run();
 }
 
 }  // namespace ctb

@@ -11,7 +11,10 @@ namespace ctb {
 
 // Independent replay against the contract's semantics (sections 2 and 3). Returns every
 // violation found; empty means the trajectory is a valid plan for the state plan.
+// allow_idle_events: events that carry no transition are accepted (the relaxed runs the split
+// uses for its lower bounds, docs/encoding.md); never for an answer.
 std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
-                                          const StatePlan& sp, long ticks_per_second);
+                                          const StatePlan& sp, long ticks_per_second,
+                                          bool allow_idle_events = false);
 
 }  // namespace ctb

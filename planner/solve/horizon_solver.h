@@ -1,0 +1,51 @@
+// Internal to the solve library: one model's horizon growth and optimality closing.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "planner/model/trajectory.h"
+#include "planner/solve/solve.h"
+
+namespace ctb::solve {
+
+using Clock = std::chrono::steady_clock;
+
+inline long MsSince(Clock::time_point t0) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
+}
+
+struct Plan {
+  Trajectory traj;
+  long cost = 0;
+  long makespan = 0;  // ticks
+};
+
+// What one solve found, before it is turned into the answer JSON.
+struct Core {
+  std::string status = "unknown";
+  std::optional<Plan> best;
+  int horizon = 0;
+  int runs = 0;
+  long compile_ms = 0;
+  long variables = 0;
+  long first_solution_ms = -1;
+  std::optional<Error> error;
+};
+
+enum class Refutation { kRefuted, kBetterExists, kUnknown };
+
+// Grows the horizon until a plan exists, solves it to optimality and closes optimality over
+// every plan with at most max_horizon events (docs/encoding.md). Errors go to Core::error.
+Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o);
+
+// Proves that no plan strictly better than `than` exists (at most max_horizon events, or
+// exactly the fixed horizon), or finds one; stats (runs, times) and any error go to `stats`.
+Refutation RefuteBetter(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                        const Plan& than, Core& stats);
+
+// True when a is strictly better than b for the objective.
+bool BetterPlan(Objective objective, const Plan& a, const Plan& b);
+
+}  // namespace ctb::solve

@@ -1,0 +1,187 @@
+// Small random planning problems for the differential and brute-force tests: random automata
+// (commanded and automatic transitions, guards across automata), random episodes, temporal and
+// shared-event constraints, goals (sometimes rewritten into equivalent forms an LLM writes) and
+// objectives. Deterministic for a seed: a failing case is printed and can be replayed.
+#pragma once
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "planner/model/json_io.h"
+
+namespace ctb::testing {
+
+struct RandomProblem {
+  Json domain;
+  Json state_plan;
+  std::string Describe() const {
+    return "domain: " + domain.dump() + "\nstate plan: " + state_plan.dump();
+  }
+};
+
+struct RandomShape {
+  int min_automata = 1, max_automata = 3;
+  int max_locations = 3;
+  int max_duration = 4;   // transition lower durations drawn from 0..max_duration
+  int max_bound = 8;      // episode and temporal bounds drawn from 0..max_bound
+  bool cross_guards = true;   // guards reading another automaton's location
+  bool rewrite = true;        // equivalent rewritings of the goal and maintenance
+  bool shared_events = true;
+};
+
+class ProblemGenerator {
+ public:
+  explicit ProblemGenerator(unsigned seed, RandomShape shape = {}) : rng_(seed), shape_(shape) {}
+
+  RandomProblem Next() {
+    RandomProblem p;
+    const int na = Int(shape_.min_automata, shape_.max_automata);
+    names_.clear();
+    locations_.clear();
+    initial_.clear();
+    Json automata = Json::array();
+    for (int a = 0; a < na; ++a) {
+      std::string name = std::string(1, static_cast<char>('a' + a));
+      names_.push_back(name);
+      int nl = Int(2, shape_.max_locations);
+      std::vector<std::string> locs;
+      for (int l = 0; l < nl; ++l) locs.push_back(name + "L" + std::to_string(l));
+      locations_.push_back(locs);
+      initial_.push_back(Int(0, nl - 1));
+    }
+    for (int a = 0; a < na; ++a) automata.push_back(Automaton(a));
+    p.domain = {{"name", "random"}, {"description", "generated"}, {"automata", automata}};
+    p.state_plan = StatePlan(na);
+    return p;
+  }
+
+ private:
+  int Int(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+  bool Chance(double p) { return std::bernoulli_distribution(p)(rng_); }
+  const std::string& Loc(int a, int l) const { return locations_[a][l]; }
+  std::string RandomLoc(int a) { return Loc(a, Int(0, static_cast<int>(locations_[a].size()) - 1)); }
+
+  Json Automaton(int a) {
+    const std::string& n = names_[a];
+    const int nl = static_cast<int>(locations_[a].size());
+    Json transitions = Json::array();
+    Json commands = Json::array();
+    int ncmd = 0;
+    // A ring through every location (so every location is reachable), plus a chord or two.
+    std::vector<std::pair<int, int>> edges;
+    for (int l = 0; l < nl; ++l) edges.emplace_back(l, (l + 1) % nl);
+    if (nl > 2 && Chance(0.5)) edges.emplace_back(Int(0, nl - 1), Int(0, nl - 1));
+    std::vector<std::pair<int, int>> seen;
+    for (auto [from, to] : edges) {
+      if (from == to) continue;
+      bool dup = false;
+      for (auto& s : seen) dup = dup || s == std::make_pair(from, to);
+      if (dup) continue;
+      seen.emplace_back(from, to);
+      Json t = {{"from", Loc(a, from)}, {"to", Loc(a, to)}};
+      std::string guard;
+      // Two automatic transitions out of one location could both be enabled; keep at most one
+      // automatic transition per source location, the rest commanded.
+      bool automatic = Chance(0.35) && !HasAutomaticFrom(transitions, Loc(a, from));
+      if (!automatic) {
+        std::string cmd = n + "C" + std::to_string(ncmd++);
+        commands.push_back(cmd);
+        guard = n + "u[i]==" + cmd;
+      }
+      if (shape_.cross_guards && names_.size() > 1 && Chance(0.25)) {
+        int b = Int(0, static_cast<int>(names_.size()) - 1);
+        if (b != a) guard += (guard.empty() ? "" : " /\\ ") + names_[b] + "l[i]==" + RandomLoc(b);
+      }
+      if (!guard.empty()) t["guard"] = guard;
+      int lo = Int(0, shape_.max_duration);
+      if (automatic && lo == 0) lo = 1;  // an automatic zero-duration loop would never rest
+      if (lo > 0 || Chance(0.3)) {
+        Json hi = Chance(0.5) ? Json(nullptr) : Json(lo + Int(0, 3));
+        t["duration"] = {lo, hi};
+      }
+      if (Chance(0.4)) t["cost"] = Int(1, 3);
+      transitions.push_back(t);
+    }
+    return {{"name", n}, {"locations", locations_[a]}, {"commands", commands},
+            {"transitions", transitions}};
+  }
+
+  static bool HasAutomaticFrom(const Json& transitions, const std::string& from) {
+    for (const auto& t : transitions)
+      if (t["from"] == from && !t.contains("guard")) return true;
+    return false;
+  }
+
+  std::string StateAtom(int a, bool next) {
+    return names_[a] + "l[" + (next ? "i+1" : "i") + "]==" + RandomLoc(a);
+  }
+
+  std::string Rewrite(const std::string& g) {
+    if (!shape_.rewrite || !Chance(0.3)) return g;
+    switch (Int(0, 4)) {
+      case 0: return "not not (" + g + ")";
+      case 1: return "true -> (" + g + ")";
+      case 2: return "(" + g + ") \\/ false";
+      case 3: return "(true) /\\ (" + g + ")";
+      default: return "(" + g + ") /\\ (" + names_[0] + "l[i+1]==" + Loc(0, 0) + " \\/ " +
+                      names_[0] + "l[i+1]!=" + Loc(0, 0) + ")";
+    }
+  }
+
+  Json StatePlan(int na) {
+    Json init = Json::object();
+    for (int a = 0; a < na; ++a) init[names_[a]] = Loc(a, initial_[a]);
+    // Goal: a location for some automata.
+    std::string goal;
+    for (int a = 0; a < na; ++a)
+      if (Chance(0.7) || (a == na - 1 && goal.empty()))
+        goal += (goal.empty() ? "" : " /\\ ") + StateAtom(a, true);
+    std::string maintenance = "true";
+    if (Chance(0.15)) {
+      int a = Int(0, na - 1);
+      maintenance = names_[a] + "l[i]!=" + RandomLoc(a);
+    } else if (shape_.rewrite && Chance(0.2)) {
+      maintenance = Chance(0.5) ? "(true) /\\ (true)" : "not not true";
+    }
+    Json episodes = Json::object(), temporal = Json::object(), events = Json::object();
+    const int ne = Chance(0.5) ? Int(1, 2) : 0;
+    for (int p = 0; p < ne; ++p) {
+      int a = Int(0, na - 1);
+      std::string loc = RandomLoc(a);
+      std::string accepting = Chance(0.1) ? "true" : names_[a] + "l[i]==" + loc;
+      int lo = Int(0, shape_.max_bound), hi = lo + Int(0, 3);
+      Json ep = {{"accepting_constraint", accepting}, {"lower_bound", lo}, {"upper_bound", hi}};
+      if (accepting != "true") ep["state_constraint"] = names_[a] + "l[i]==" + loc;
+      episodes["E" + std::to_string(p)] = ep;
+    }
+    const int nq = Chance(0.5) ? Int(1, 2) : 0;
+    for (int q = 0; q < nq; ++q) {
+      int a = Int(0, na - 1), b = Int(0, na - 1);
+      std::string e1 = Chance(0.5) ? names_[a] + "l[i]==" + RandomLoc(a) + " /\\ " +
+                                         names_[a] + "l[i+1]==" + RandomLoc(a)
+                                   : StateAtom(a, true);
+      std::string e2 = StateAtom(b, true);
+      int lo = Int(0, shape_.max_bound), hi = lo + Int(0, 4);
+      temporal["T" + std::to_string(q)] = {{"accepting_event1_constraint", e1},
+                                           {"accepting_event2_constraint", e2},
+                                           {"lower_bound", lo}, {"upper_bound", hi}};
+    }
+    if (shape_.shared_events && ne > 0 && nq > 0 && Chance(0.3))
+      events["S"] = Json::array({"E0.end", "T0.event1"});
+    static const char* const kObjectives[] = {"cost", "makespan", "cost_then_makespan"};
+    return {{"initial_state", init},
+            {"end_state", {{"maintenance_constraint", maintenance},
+                           {"goal_constraint", Rewrite(goal)}}},
+            {"constraints", {{"episodes", episodes}, {"temporal", temporal}, {"event", events}}},
+            {"objective", kObjectives[Int(0, 2)]}};
+  }
+
+  std::mt19937 rng_;
+  RandomShape shape_;
+  std::vector<std::string> names_;
+  std::vector<std::vector<std::string>> locations_;
+  std::vector<int> initial_;
+};
+
+}  // namespace ctb::testing
