@@ -1,5 +1,6 @@
 #include "planner/solve/horizon_solver.h"
 
+#include <stdlib.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "planner/encode/encoder.h"
 #include "planner/encode/extract.h"
 #include "planner/solve/backend.h"
+#include "planner/solve/bounds.h"
 #include "planner/verify/verify.h"
 
 namespace ctb::solve {
@@ -93,6 +95,8 @@ class Solver {
     }
     if (!best_) return Finish(r == Outcome::kInfeasible ? "infeasible" : "unknown");
     if (r != Outcome::kOptimal) return Finish("feasible");
+    // A plan that meets a bound every plan obeys is optimal whatever the number of events.
+    if (MeetsLowerBound(*best_)) return Finish("optimal");
     // Close optimality over every plan with at most max_horizon events.
     int need = EventsForBetter(*best_);
     if (need <= horizon_) return Finish("optimal");
@@ -301,6 +305,16 @@ class Solver {
     return Outcome::kUnknown;
   }
 
+  bool MeetsLowerBound(const Plan& p) const {
+    const ObjectiveBounds b = LowerBounds(d_, sp_);
+    switch (objective_) {
+      case Objective::kCost: return p.cost <= b.cost;
+      case Objective::kMakespan: return p.makespan <= b.makespan_ticks;
+      case Objective::kCostThenMakespan: return p.cost <= b.cost && p.makespan <= b.makespan_ticks;
+    }
+    return false;
+  }
+
   bool Better(const Plan& a, const Plan& b) const { return BetterPlan(objective_, a, b); }
 
   void WriteModelOut() const {
@@ -309,13 +323,20 @@ class Solver {
     std::ofstream(o_.model_out + ".json") << last_data_.dump(1) << "\n";
   }
 
+  // Keeps the model of a plan that failed verification, for the bug report: in a directory of
+  // its own (mkdtemp: unpredictable, never shared between jobs), at most 4 MiB of model text.
   std::string SaveFailedModel() const {
     const char* base = std::getenv("TMPDIR");
-    std::string path = std::string(base && *base ? base : "/tmp") + "/ctburton-unverified-" +
-                       std::to_string(getpid()) + "-" + std::to_string(runs_) + ".mzn";
-    std::ofstream(path) << last_model_;
-    std::ofstream(path + ".json") << last_data_.dump() << "\n";
-    return path;
+    std::string templ = std::string(base && *base ? base : "/tmp") + "/ctburton-unverified-XXXXXX";
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    if (!mkdtemp(buf.data())) return "(not kept: cannot create a directory)";
+    std::string dir(buf.data());
+    constexpr std::size_t kMaxKept = 4u << 20;
+    std::ofstream(dir + "/model.mzn") << last_model_.substr(0, kMaxKept);
+    std::string data = last_data_.dump(-1, ' ', false, Json::error_handler_t::replace);
+    std::ofstream(dir + "/model.json") << data.substr(0, kMaxKept) << "\n";
+    return dir;
   }
 
   Core Finish(const std::string& status) const {

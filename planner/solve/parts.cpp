@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "planner/expr/expr_print.h"
+#include "planner/solve/bounds.h"
 #include "planner/verify/verify.h"
 
 namespace ctb::solve {
@@ -62,38 +63,53 @@ std::string CanonicalForm(const Domain& d, const StatePlan& sp, Objective object
 
 namespace {
 
-// One part solved and, where it claims optimality or infeasibility, checked against the relaxed
-// runs in which idle events stand for other parts' events. nullopt: cannot be shown sound.
-std::optional<Core> SolvePart(const SubProblem& part, const SolveOptions& po, Objective objective,
-                              Clock::time_point t0, long time_limit_ms, Json& why) {
+bool MeetsBound(const SubProblem& part, Objective objective, const Plan& p) {
+  const ObjectiveBounds b = LowerBounds(part.domain, part.plan);
+  switch (objective) {
+    case Objective::kCost: return p.cost <= b.cost;
+    case Objective::kMakespan: return p.makespan <= b.makespan_ticks;
+    case Objective::kCostThenMakespan: return p.cost <= b.cost && p.makespan <= b.makespan_ticks;
+  }
+  return false;
+}
+
+// A part solved on its own runs. An infeasible part is checked against the relaxed runs in which
+// idle events stand for other parts' events. nullopt: the split cannot be shown sound.
+std::optional<Core> SolveAlone(const SubProblem& part, const SolveOptions& po,
+                               Clock::time_point t0, long time_limit_ms, std::string& why) {
   SolveOptions o = po;
   o.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
   Core c = SolveOneModel(part.domain, part.plan, o);
-  if (c.error) return c;
+  if (c.error || c.status != "infeasible") return c;
   SolveOptions relaxed = o;
   relaxed.idle_events = true;
   relaxed.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
-  if (c.status == "infeasible") {
-    // Infeasible in the part's own runs; the whole is infeasible only if the relaxed runs are.
-    Core r = SolveOneModel(part.domain, part.plan, relaxed);
-    c.runs += r.runs;
-    if (r.error) return r;
-    if (r.status == "infeasible") return c;
-    why = "a part is infeasible alone but not with other parts' events";
-    return std::nullopt;
-  }
-  if (c.status != "optimal" || !c.best) return c;
+  Core r = SolveOneModel(part.domain, part.plan, relaxed);
+  c.runs += r.runs;
+  if (r.error) return r;
+  if (r.status == "infeasible") return c;
+  why = "a part is infeasible alone but not with other parts' events";
+  return std::nullopt;
+}
+
+// Proves that no relaxed run of the part beats its plan. false: one does (the split is not
+// sound for this problem); an unfinished proof leaves the part "feasible".
+bool ProveAgainstRelaxedRuns(const SubProblem& part, const SolveOptions& po, Clock::time_point t0,
+                             long time_limit_ms, Core& c) {
+  SolveOptions relaxed = po;
+  relaxed.idle_events = true;
+  relaxed.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
   Core stats;
   Refutation r = RefuteBetter(part.domain, part.plan, relaxed, *c.best, stats);
   c.runs += stats.runs;
   c.compile_ms += stats.compile_ms;
-  if (stats.error) return stats;
-  if (r == Refutation::kBetterExists) {
-    why = "a part does better with other parts' events";
-    return std::nullopt;
+  if (stats.error) {
+    c.error = stats.error;
+    return true;
   }
-  if (r == Refutation::kUnknown) c.status = "feasible";  // the time limit ended the proof
-  return c;
+  if (r == Refutation::kBetterExists) return false;
+  if (r == Refutation::kUnknown) c.status = "feasible";
+  return true;
 }
 
 }  // namespace
@@ -105,62 +121,67 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   po.decompose = false;
   po.objective = objective;
   po.model_out.clear();
-  std::vector<Trajectory> plans;
-  std::map<std::string, Core> solved;  // canonical form -> result
+  stats["parts"] = parts.size();
+  auto give_up = [&](const std::string& why) {
+    stats["merge"] = why;
+    spdlog::info("{}", Json("split not used: " + why).dump());
+    return std::nullopt;
+  };
+  // Phase 1: each distinct part on its own runs (identical parts once).
+  std::vector<std::string> keys;
+  std::map<std::string, Core> solved;
+  std::map<std::string, const SubProblem*> first_of;
   Core total;
   total.status = "optimal";
   int reused = 0;
-  stats["parts"] = parts.size();
   for (const auto& part : parts) {
     std::string key = CanonicalForm(part.domain, part.plan, objective);
-    Core c;
-    if (auto it = solved.find(key); it != solved.end() && o.reuse_identical_parts) {
-      c = it->second;
+    if (!o.reuse_identical_parts) key += "#" + std::to_string(keys.size());
+    keys.push_back(key);
+    if (solved.count(key)) {
       ++reused;
-    } else {
-      Json why;
-      auto r = SolvePart(part, po, objective, t0, o.time_limit_ms, why);
-      if (!r) {
-        stats["merge"] = why;
-        spdlog::info("{}", Json("split not used: " + why.get<std::string>()).dump());
-        return std::nullopt;
-      }
-      c = std::move(*r);
-      if (c.error) return c;
-      solved[key] = c;
-      total.runs += c.runs;
-      total.compile_ms += c.compile_ms;
-      total.variables += c.variables;
+      continue;
     }
-    if (c.status == "infeasible") {
-      total.status = "infeasible";
-      total.best.reset();
-      stats["parts_reused"] = reused;
+    std::string why;
+    auto c = SolveAlone(part, po, t0, o.time_limit_ms, why);
+    if (!c) return give_up(why);
+    if (c->error) return c;
+    total.runs += c->runs;
+    total.compile_ms += c->compile_ms;
+    total.variables += c->variables;
+    stats["parts_reused"] = reused;
+    if (c->status == "infeasible" || !c->best) {
+      total.status = c->status == "infeasible" ? "infeasible" : "unknown";
       return total;
     }
-    if (!c.best) {
-      total.status = "unknown";
-      stats["parts_reused"] = reused;
-      return total;
-    }
+    solved[key] = std::move(*c);
+    first_of[key] = &part;
+  }
+  stats["parts_reused"] = reused;
+  // Phase 2: prove each part's share against the relaxed runs, where it counts. A plan that
+  // meets the part's lower bound needs no proof; for makespan only the parts that reach the
+  // latest goal time count (the others need not be optimal).
+  long latest = 0;
+  for (auto& [key, c] : solved) latest = std::max(latest, c.best->makespan);
+  for (auto& [key, c] : solved) {
+    if (c.status != "optimal") continue;
+    if (objective == Objective::kMakespan && c.best->makespan < latest) continue;
+    if (MeetsBound(*first_of[key], objective, *c.best)) continue;
+    if (!ProveAgainstRelaxedRuns(*first_of[key], po, t0, o.time_limit_ms, c))
+      return give_up("a part does better with other parts' events");
+    if (c.error) return c;
+  }
+  std::vector<Trajectory> plans;
+  for (const auto& key : keys) {
+    const Core& c = solved[key];
     if (c.status != "optimal") total.status = "feasible";
     plans.push_back(c.best->traj);
   }
-  stats["parts_reused"] = reused;
   Trajectory merged = MergeTrajectories(parts, plans, d, sp);
   const int limit = o.horizon ? *o.horizon : o.max_horizon;
-  if (merged.goal_event > limit) {
-    stats["merge"] = "too many events";
-    return std::nullopt;
-  }
+  if (merged.goal_event > limit) return give_up("too many events");
   auto problems = VerifyTrajectory(merged, d, sp, std::lround(1.0 / d.time_resolution));
-  if (!problems.empty()) {
-    spdlog::info("{}", Json("merged plan failed verification (" + problems[0] +
-                            "): solving as one model").dump(-1, ' ', false,
-                                                            Json::error_handler_t::replace));
-    stats["merge"] = "failed verification: " + problems[0];
-    return std::nullopt;
-  }
+  if (!problems.empty()) return give_up("failed verification: " + problems[0]);
   total.best = Plan{merged, TrajectoryCost(merged, d), merged.events.back()};
   total.horizon = merged.goal_event;
   total.first_solution_ms = MsSince(t0);

@@ -4,6 +4,7 @@
 
 #include "planner/encode/encoder.h"
 #include "planner/solve/backend.h"
+#include "planner/solve/bounds.h"
 #include "planner/solve/decompose.h"
 #include "planner/solve/horizon_solver.h"
 #include "planner/solve/parts.h"
@@ -46,6 +47,17 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
     out["horizon"] = c.horizon;
   }
   out["max_horizon"] = max_horizon;
+  if (c.status == "feasible") {
+    // How far from optimal the plan may be: a bound every plan obeys.
+    const ObjectiveBounds b = LowerBounds(d, sp);
+    switch (objective) {
+      case Objective::kCost: out["bound"] = b.cost; break;
+      case Objective::kMakespan: out["bound"] = seconds(b.makespan_ticks); break;
+      case Objective::kCostThenMakespan:
+        out["bound"] = {{"cost", b.cost}, {"makespan", seconds(b.makespan_ticks)}};
+        break;
+    }
+  }
   out["verified"] = c.best.has_value();
   out["stats"] = {{"solver", solver_name},
                   {"compile_ms", c.compile_ms},

@@ -34,7 +34,10 @@ if [ $rc = 1 ] && grep -q "^/end_state: missing required field" "$T/err.txt"; th
 else bad "bad state plan exits 1 (rc=$rc)"; cat "$T/err.txt"; fi
 
 "$BIN" solve --domain presentation config/examples/presentation/test1_cot.json --horizon 100000 \
-  > /dev/null 2>&1 && bad "absurd horizon rejected" || ok "absurd horizon rejected"
+  > /dev/null 2> "$T/err.txt"
+rc=$?
+if [ $rc = 1 ] && grep -q "horizon must be between 0 and 200" "$T/err.txt"; then ok "absurd horizon rejected"
+else bad "absurd horizon rejected (rc=$rc)"; cat "$T/err.txt"; fi
 
 "$BIN" solve --domain nosuch config/examples/presentation/test1_cot.json > /dev/null 2> "$T/err.txt"
 rc=$?

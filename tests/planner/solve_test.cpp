@@ -128,8 +128,10 @@ TEST(Solve, TimeLimitGivesFeasibleOrUnknownNeverAnError) {
   o.time_limit_ms = 300;
   Json t = SolveExample("search_rescue", "search_rescue/test1.json", Objective::kMakespan, o);
   ASSERT_TRUE(t.is_object());
-  EXPECT_TRUE(t["status"] == "feasible" || t["status"] == "unknown" || t["status"] == "optimal")
-      << t["status"];
+  // The makespan proof needs a solve at max_horizon: not within 300 ms.
+  EXPECT_TRUE(t["status"] == "feasible" || t["status"] == "unknown") << t["status"];
+  EXPECT_EQ(t["verified"], t["status"] == "feasible");
+  EXPECT_LT(t["stats"]["solve_ms"].get<long>(), 5000);  // the limit holds (with slack for CI)
 }
 
 TEST(Solve, RejectsAbsurdOptions) {

@@ -46,8 +46,10 @@ TEST(Replay, EveryThesisPromptBecomesAValidStatePlanOffline) {
 }
 
 TEST(Replay, TheDirectSlipIsRepairedFromTheRecording) {
+  int found = 0;
   for (const auto& c : Script()) {
     if (c["name"] != "presentation_test1_direct") continue;
+    ++found;
     auto r = Replay(c);
     ASSERT_TRUE(std::holds_alternative<TranslateResult>(r));
     EXPECT_EQ(std::get<TranslateResult>(r).repairs, 1);
@@ -55,11 +57,14 @@ TEST(Replay, TheDirectSlipIsRepairedFromTheRecording) {
                                                      ["accepting_event1_constraint"],
               "projl[i]==projOff");
   }
+  EXPECT_EQ(found, 1) << "the recording script lost its case";
 }
 
 TEST(Replay, NaturalLanguageToVerifiedPlan) {
+  int found = 0;
   for (const auto& c : Script()) {
     if (c["name"] != "presentation_test1_cot" && c["name"] != "search_rescue_test2") continue;
+    ++found;
     auto r = Replay(c);
     ASSERT_TRUE(std::holds_alternative<TranslateResult>(r));
     const Domain& d = ctb::testing::ShippedDomain(c["domain"]);
@@ -76,6 +81,7 @@ TEST(Replay, NaturalLanguageToVerifiedPlan) {
     if (c["name"] == "search_rescue_test2") EXPECT_EQ(t["objective"]["value"], 11);
     else EXPECT_EQ(t["goal_reached_at"], 2430);
   }
+  EXPECT_EQ(found, 2) << "the recording script lost a case";
 }
 
 TEST(Replay, AnUnrecordedCommandIsAClearMiss) {

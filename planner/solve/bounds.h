@@ -1,0 +1,22 @@
+// Lower bounds on the objective that hold for every plan (whatever its number of events), from
+// the automata's graphs alone: used to close optimality without a solve at max_horizon when a
+// plan meets them, and reported as `bound` when the time limit ends a search.
+#pragma once
+
+#include "planner/model/domain.h"
+#include "planner/model/state_plan.h"
+
+namespace ctb {
+
+struct ObjectiveBounds {
+  long cost = 0;            // no plan costs less
+  long makespan_ticks = 0;  // no plan reaches its goal earlier
+};
+
+// Every automaton the goal pins to a location must at least take the cheapest (fastest) way there
+// through each location an episode or temporal constraint needs it to visit (guards ignored);
+// costs add up over automata, times do not; an episode lasts at least its lower bound after its
+// location is first entered, and a temporal constraint's lower bound passes before the goal.
+ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
+
+}  // namespace ctb

@@ -1,0 +1,210 @@
+// A brute-force cross-check (issue 8): for tiny random problems, enumerate every plan with at
+// most 3 events and integer times up to the time bound (every choice of transitions per event,
+// every episode and temporal-constraint placement), keep those the independent verifier
+// accepts, and compare the best with the planner's answer at max_horizon 3. No encoder, no
+// solver on this side: the enumeration and the verifier are the reference.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <optional>
+
+#include "planner/solve/solve.h"
+#include "planner/verify/verify.h"
+#include "random_problem.h"
+#include "test_util.h"
+
+namespace ctb {
+namespace {
+
+constexpr int kMaxEvents = 3;
+
+struct Best {
+  long cost = 0, makespan = 0;
+};
+
+bool Better(Objective o, const Best& a, const Best& b) {
+  switch (o) {
+    case Objective::kCost: return a.cost < b.cost;
+    case Objective::kMakespan: return a.makespan < b.makespan;
+    case Objective::kCostThenMakespan:
+      return a.cost < b.cost || (a.cost == b.cost && a.makespan < b.makespan);
+  }
+  return false;
+}
+
+Json Value(Objective o, const Best& b) {
+  switch (o) {
+    case Objective::kCost: return b.cost;
+    case Objective::kMakespan: return b.makespan;
+    case Objective::kCostThenMakespan: return {{"cost", b.cost}, {"makespan", b.makespan}};
+  }
+  return nullptr;
+}
+
+class Enumerator {
+ public:
+  Enumerator(const Domain& d, const StatePlan& sp, long time_bound)
+      : d_(d), sp_(sp), tb_(time_bound), na_(static_cast<int>(d.automata.size())) {}
+
+  std::optional<Best> Run() {
+    for (int g = 0; g <= kMaxEvents; ++g) {
+      Trajectory t;
+      t.goal_event = g;
+      t.horizon = kMaxEvents;
+      t.events.assign(g + 1, 0);
+      t.locations.assign(na_, std::vector<int>(g + 1, 0));
+      t.commands.assign(na_, std::vector<int>(g + 1, 0));
+      for (int a = 0; a < na_; ++a) t.locations[a][0] = sp_.initial[a];
+      Times(t, 1);
+    }
+    return best_;
+  }
+  long plans_checked() const { return checked_; }
+
+ private:
+  void Times(Trajectory& t, int k) {
+    const int g = t.goal_event;
+    if (k > g) {
+      Transitions(t, 1);
+      return;
+    }
+    for (long time = t.events[k - 1]; time <= tb_; ++time) {
+      t.events[k] = time;
+      Times(t, k + 1);
+    }
+  }
+
+  // Event k: each automaton fires one of the transitions leaving its location, or none; at
+  // least one fires (concise runs).
+  void Transitions(Trajectory& t, int k) {
+    const int g = t.goal_event;
+    if (k > g) {
+      Placements(t, 0);
+      return;
+    }
+    std::function<void(int, bool)> per_automaton = [&](int a, bool any) {
+      if (a == na_) {
+        if (any) Transitions(t, k + 1);
+        return;
+      }
+      const Automaton& au = d_.automata[a];
+      const int loc = t.locations[a][k - 1];
+      t.locations[a][k] = loc;
+      t.commands[a][k - 1] = 0;
+      per_automaton(a + 1, any);
+      for (std::size_t x = 0; x < au.transitions.size(); ++x) {
+        const Transition& tr = au.transitions[x];
+        if (tr.from != loc) continue;
+        t.locations[a][k] = tr.to;
+        t.commands[a][k - 1] = tr.commanded ? tr.command : 0;
+        t.fired.push_back({k, a, static_cast<int>(x)});
+        per_automaton(a + 1, true);
+        t.fired.pop_back();
+      }
+      t.locations[a][k] = loc;
+      t.commands[a][k - 1] = 0;
+    };
+    per_automaton(0, false);
+  }
+
+  // Every placement of the episodes' and temporal constraints' events.
+  void Placements(Trajectory& t, std::size_t i) {
+    const int g = t.goal_event;
+    const std::size_t ne = sp_.episodes.size(), nq = sp_.temporals.size();
+    if (i == 0) {
+      t.episodes.assign(ne, {0, 0});
+      t.temporals.assign(nq, {0, 0});
+    }
+    if (i == ne + nq) {
+      Check(t);
+      return;
+    }
+    for (int x = 0; x <= g; ++x)
+      for (int y = 0; y <= g; ++y) {
+        if (i < ne) {
+          if (y <= x) continue;
+          t.episodes[i] = {x, y};
+        } else {
+          t.temporals[i - ne] = {x, y};
+        }
+        Placements(t, i + 1);
+      }
+  }
+
+  void Check(Trajectory& t) {
+    ++checked_;
+    std::vector<FiredTransition> sorted = t.fired;
+    std::swap(t.fired, sorted);
+    std::sort(t.fired.begin(), t.fired.end(), [](const FiredTransition& a, const FiredTransition& b) {
+      return a.event != b.event ? a.event < b.event : a.automaton < b.automaton;
+    });
+    if (VerifyTrajectory(t, d_, sp_, 1).empty()) {
+      Best b{TrajectoryCost(t, d_), t.events[t.goal_event]};
+      if (!best_ || Better(sp_.objective, b, *best_)) best_ = b;
+    }
+    std::swap(t.fired, sorted);
+  }
+
+  const Domain& d_;
+  const StatePlan& sp_;
+  long tb_;
+  int na_;
+  std::optional<Best> best_;
+  long checked_ = 0;
+};
+
+TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
+  testing::RandomShape shape;
+  shape.min_automata = 1;
+  shape.max_automata = 2;
+  shape.max_locations = 2;
+  shape.max_duration = 2;
+  shape.max_bound = 3;
+  shape.shared_events = false;
+  int compared = 0, feasible = 0, infeasible = 0;
+  for (unsigned seed = 1000; seed < 1060; ++seed) {
+    testing::ProblemGenerator gen(seed, shape);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    if (sp->episodes.size() + sp->temporals.size() > 2) continue;  // keep the enumeration small
+    // The latest time an optimal plan with 3 events needs (docs/encoding.md), plus slack.
+    long lower_sum = 0, max_lo = 0;
+    for (const auto& e : sp->episodes) lower_sum += static_cast<long>(e.lower);
+    for (const auto& q : sp->temporals) lower_sum += static_cast<long>(q.lower);
+    for (const auto& a : d->automata)
+      for (const auto& t : a.transitions) max_lo = std::max(max_lo, static_cast<long>(t.duration.lo));
+    const long time_bound = lower_sum + kMaxEvents * max_lo + 1;
+    Enumerator en(*d, *sp, time_bound);
+    std::optional<Best> truth = en.Run();
+    SolveOptions o;
+    o.max_horizon = kMaxEvents;
+    o.time_limit_ms = 60000;
+    auto r = Solve(*d, *sp, o);
+    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
+    const Json& answer = std::get<Json>(r);
+    ASSERT_TRUE(answer["status"] == "optimal" || answer["status"] == "infeasible")
+        << "seed " << seed << ": undecided " << answer["status"] << "\n" << p.Describe();
+    if (truth) {
+      ++feasible;
+      EXPECT_EQ(answer["status"], "optimal") << "seed " << seed << "\n" << p.Describe();
+      EXPECT_EQ(answer["objective"]["value"], Value(sp->objective, *truth))
+          << "seed " << seed << " (" << en.plans_checked() << " plans enumerated)\n"
+          << p.Describe();
+    } else {
+      ++infeasible;
+      EXPECT_EQ(answer["status"], "infeasible") << "seed " << seed << "\n" << p.Describe();
+    }
+    ++compared;
+  }
+  // The sample must exercise both answers.
+  EXPECT_GE(compared, 40);
+  EXPECT_GE(feasible, 10);
+  EXPECT_GE(infeasible, 3);
+}
+
+}  // namespace
+}  // namespace ctb
