@@ -84,6 +84,12 @@ std::string PartName(const std::string& pointer) {
   return pointer;
 }
 
+// Whole seconds print as integers.
+Json Number(double v) {
+  if (std::fabs(v - std::round(v)) < 1e-9 && std::fabs(v) < 1e15) return Json(std::llround(v));
+  return Json(v);
+}
+
 enum class Verdict { kFeasible, kInfeasible, kUnknown };
 
 class Explainer {
@@ -266,8 +272,9 @@ class Explainer {
       }
     }
     const double value = good_steps * res, old = upper ? hi : lo;
-    Json changes = Json::array({{{"pointer", bp}, {"value", value}}});
-    if (upper && value < lo) changes.push_back({{"pointer", pointer + "/lower_bound"}, {"value", value}});
+    Json changes = Json::array({{{"pointer", bp}, {"value", Number(value)}}});
+    if (upper && value < lo) changes.push_back({{"pointer", pointer + "/lower_bound"}, {"value", Number(value)}});
+    relaxable_.insert(pointer);
     std::string text = upper ? "Allow " + SecondsText(value) + " s instead of " + SecondsText(old) +
                                    " s for " + PartName(pointer) + "."
                              : "Accept " + SecondsText(value) + " s instead of at least " +
@@ -288,7 +295,10 @@ class Explainer {
     for (const auto& p : set) {
       Json j = base_;
       if (!DropPart(j, p)) continue;
-      if (Check(j) == Verdict::kFeasible)
+      // Dropping a part relaxes it further than any bound change: when one of its bounds could
+      // be relaxed, the plan without it is feasible too (a plan for the relaxed bound, cut at the
+      // first event at which the rest is met, is a plan for the rest). Else solve.
+      if (relaxable_.count(p) || Check(j) == Verdict::kFeasible)
         cands.push_back({Json::array({{{"pointer", p}, {"value", nullptr}}}),
                          "Drop " + PartName(p) + ".", 1e9 + cands.size()});
     }
@@ -306,6 +316,7 @@ class Explainer {
   const Clock::time_point deadline_;
   const Json summary_;
   std::vector<std::string> parts_;
+  std::set<std::string> relaxable_;  // parts with a bound relaxation shown feasible
   int calls_ = 0;
 };
 
