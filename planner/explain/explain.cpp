@@ -90,7 +90,8 @@ Json Number(double v) {
   return Json(v);
 }
 
-enum class Verdict { kFeasible, kInfeasible, kUnknown };
+// kCannotDrop: the reduced plan does not load (another part's condition names a dropped part).
+enum class Verdict { kFeasible, kInfeasible, kUnknown, kCannotDrop };
 
 class Explainer {
  public:
@@ -127,7 +128,7 @@ class Explainer {
           set = rest;
         } else if (v == Verdict::kUnknown) {
           proven = false;
-        } else if (rest.size() > consistent.size()) {
+        } else if (v == Verdict::kFeasible && rest.size() > consistent.size()) {
           consistent = rest;
         }
       }
@@ -189,7 +190,7 @@ class Explainer {
   Verdict Check(const Json& j, Json* witness = nullptr) {
     Diagnostics diags;
     auto sp = LoadStatePlan(j, d_, diags);
-    if (!sp) return Verdict::kUnknown;  // a part others name: cannot be dropped alone
+    if (!sp) return Verdict::kCannotDrop;  // a part others name: cannot be dropped alone
     if (FindStaticConflict(d_, *sp)) return Verdict::kInfeasible;
     long left = Remaining();
     if (left < 50 || (so_.cancel && so_.cancel->load())) return Verdict::kUnknown;
