@@ -4,6 +4,7 @@
 
 #include "client/commands.h"
 #include "client/remote.h"
+#include "planner/explain/explain.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/solve.h"
 #include "translator/pipeline.h"
@@ -60,6 +61,7 @@ int RunPlan(const PlanCliOptions& o) {
   if (!o.objective.empty()) so.objective = ParseObjective(o.objective);
   auto s = Solve(*domain, *sp, so);
   if (auto* e = std::get_if<Error>(&s)) return Fail(*e);
+  AnnotateAnswer(*domain, *sp, so, std::get<Json>(s));
   std::cout << Json({{"state_plan", tr.state_plan}, {"reasoning", tr.reasoning},
                      {"trajectory", std::get<Json>(s)}}).dump(2) << "\n";
   return 0;

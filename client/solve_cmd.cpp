@@ -4,6 +4,7 @@
 
 #include "client/commands.h"
 #include "client/remote.h"
+#include "planner/explain/explain.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/solve.h"
 
@@ -100,6 +101,7 @@ int RunSolve(const SolveCliOptions& o) {
     PrintError(*e);
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
+  AnnotateAnswer(*domain, *sp, so, std::get<Json>(result));  // summary; explanation if infeasible
   std::cout << std::get<Json>(result).dump(2) << "\n";
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <random>
 #include <thread>
 
+#include "planner/explain/explain.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/runner.h"
 #include "planner/solve/solve.h"
@@ -288,6 +289,7 @@ class Service {
       }
     });
     auto r = Solve(d, sp, o);
+    if (auto* j = std::get_if<Json>(&r)) AnnotateAnswer(d, sp, o, *j);  // summary, explanation
     done = true;
     watch.join();
     gate_.Leave();
@@ -424,6 +426,8 @@ class Service {
       Session& s = sessions_[id];
       s.domain = tr.domain->name;
       s.conversation = tr.result.conversation;
+      if (auto note = DialogueNote(std::get<Json>(solved)); !note.empty())
+        s.conversation.push_back({"assistant", note});  // the next turn knows why it failed
       s.state_plan = tr.result.state_plan;
       s.last_used = Clock::now();
     }

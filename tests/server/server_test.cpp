@@ -176,6 +176,20 @@ TEST(Service, InfeasibleIsA200) {
   EXPECT_EQ(Json::parse(r->body)["status"], "infeasible");
 }
 
+// Issue 10: the answer restates the plan and says why it is infeasible and what would do.
+TEST(Service, InfeasibleAnswerIsExplained) {
+  Server s;
+  Json b = {{"domain", "presentation"}, {"state_plan", Json::parse(ReadFile(ctb::testing::SourceDir() + "/tests/data/deadline_infeasible.json"))}};
+  auto r = s.Client().Post("/solve", b.dump(), "application/json");
+  ASSERT_EQ(r->status, 200);
+  Json t = Json::parse(r->body);
+  ASSERT_TRUE(t.contains("state_plan_summary"));
+  EXPECT_EQ(t["state_plan_summary"].size(), 3u);  // initial state, goal, OnWithin10
+  ASSERT_TRUE(t.contains("explanation"));
+  EXPECT_EQ(t["explanation"]["conflicts"][0]["constraints"], Json::array({"/constraints/temporal/OnWithin10"}));
+  EXPECT_EQ(t["explanation"]["relaxations"][0]["changes"][0]["value"], 30);
+}
+
 TEST(Service, InlineActionModel) {
   Server s;
   Json b = {{"action_model", Json::parse(ReadFile(ctb::testing::ConfigDir() + "/domains/presentation.json"))},

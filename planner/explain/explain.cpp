@@ -1,0 +1,382 @@
+#include "planner/explain/explain.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "planner/analyze/analyze.h"
+#include "planner/explain/summary.h"
+
+namespace ctb {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kMaxBound = 1e7;
+
+// Splits "/a/b/c" into its tokens (state-plan names are identifiers: no escapes needed).
+std::vector<std::string> Tokens(const std::string& pointer) {
+  std::vector<std::string> out;
+  std::size_t k = 0;
+  while (k < pointer.size() && pointer[k] == '/') {
+    std::size_t next = pointer.find('/', k + 1);
+    out.push_back(pointer.substr(k + 1, next == std::string::npos ? std::string::npos : next - k - 1));
+    if (next == std::string::npos) break;
+    k = next;
+  }
+  return out;
+}
+
+// Drops one part from a state plan's JSON (see explain.h). False when the pointer names none.
+bool DropPart(Json& j, const std::string& pointer) {
+  auto t = Tokens(pointer);
+  if (t.size() == 2 && t[0] == "end_state" &&
+      (t[1] == "goal_constraint" || t[1] == "maintenance_constraint")) {
+    j["end_state"][t[1]] = "true";
+    return true;
+  }
+  if (t.size() != 3 || t[0] != "constraints") return false;
+  Json& group = j["constraints"][t[1]];
+  if (!group.is_object() || !group.contains(t[2])) return false;
+  group.erase(t[2]);
+  if (t[1] == "event") return true;
+  // Endpoints that name the dropped episode or temporal constraint go with it.
+  const std::set<std::string> kinds = t[1] == "episodes" ? std::set<std::string>{"start", "end"}
+                                                          : std::set<std::string>{"event1", "event2"};
+  Json& events = j["constraints"]["event"];
+  if (!events.is_object()) return true;
+  std::vector<std::string> empty;
+  for (auto& [name, list] : events.items()) {
+    Json kept = Json::array();
+    for (const auto& e : list) {
+      std::string s = e.get<std::string>();
+      auto dot = s.rfind('.');
+      bool mine = dot != std::string::npos && s.substr(0, dot) == t[2] && kinds.count(s.substr(dot + 1));
+      if (!mine) kept.push_back(e);
+    }
+    list = kept;
+    if (list.size() < 2) empty.push_back(name);
+  }
+  for (const auto& n : empty) events.erase(n);
+  return true;
+}
+
+bool SetBound(Json& j, const std::string& pointer, double value) {
+  auto t = Tokens(pointer);
+  if (t.size() != 4 || t[0] != "constraints" || (t[3] != "lower_bound" && t[3] != "upper_bound"))
+    return false;
+  Json& group = j["constraints"][t[1]];
+  if (!group.is_object() || !group.contains(t[2])) return false;
+  group[t[2]][t[3]] = value;
+  return true;
+}
+
+std::string PartName(const std::string& pointer) {
+  auto t = Tokens(pointer);
+  if (t.size() == 2) return t[1] == "goal_constraint" ? "the goal" : "the maintenance constraint";
+  if (t.size() == 3) {
+    if (t[1] == "episodes") return "episode " + t[2];
+    if (t[1] == "temporal") return "temporal constraint " + t[2];
+    return "shared event " + t[2];
+  }
+  return pointer;
+}
+
+// Whole seconds print as integers.
+Json Number(double v) {
+  if (std::fabs(v - std::round(v)) < 1e-9 && std::fabs(v) < 1e15) return Json(std::llround(v));
+  return Json(v);
+}
+
+// kCannotDrop: the reduced plan does not load (another part's condition names a dropped part).
+enum class Verdict { kFeasible, kInfeasible, kUnknown, kCannotDrop };
+
+class Explainer {
+ public:
+  Explainer(const Domain& d, const StatePlan& sp, const SolveOptions& so, const ExplainOptions& eo)
+      : d_(d), sp_(sp), so_(so), eo_(eo), base_(StatePlanToJson(sp, d)),
+        deadline_(Clock::now() + std::chrono::milliseconds(eo.time_limit_ms)),
+        summary_(SummarizeStatePlan(d, sp)) {
+    so_.objective = Objective::kCost;
+    so_.model_out.clear();
+    if (sp.goal.expr.op != Expr::Op::kTrue)
+      parts_.push_back(sp.goal.pointer);
+    if (sp.maintenance.expr.op != Expr::Op::kTrue) parts_.push_back(sp.maintenance.pointer);
+    for (const auto& e : sp.episodes) parts_.push_back("/constraints/episodes/" + e.name);
+    for (const auto& t : sp.temporals) parts_.push_back("/constraints/temporal/" + t.name);
+    for (const auto& e : sp.events) parts_.push_back("/constraints/event/" + e.name);
+  }
+
+  Json Run() {
+    const auto t0 = Clock::now();
+    Json out = {{"conflicts", Json::array()}, {"relaxations", Json::array()}};
+    std::optional<StaticConflict> stat = FindStaticConflict(d_, sp_);
+    std::vector<std::string> set = stat ? stat->parts : parts_;
+    bool from_static = stat.has_value();
+    bool proven = true;
+    std::vector<std::string> consistent;
+    // Deletion filter: drop each part that the rest can do without.
+    if (set.size() > 1 || !from_static) {
+      for (const std::string p : std::vector<std::string>(set)) {
+        std::vector<std::string> rest;
+        for (const auto& x : set)
+          if (x != p) rest.push_back(x);
+        Verdict v = rest.empty() ? Verdict::kFeasible : Check(Only(rest));
+        if (v == Verdict::kInfeasible) {
+          set = rest;
+        } else if (v == Verdict::kUnknown) {
+          proven = false;
+        } else if (v == Verdict::kFeasible && rest.size() > consistent.size()) {
+          consistent = rest;
+        }
+      }
+    }
+    if (set.empty() || (!from_static && set == parts_ && parts_.empty())) {
+      out["status"] = "unknown";
+      return Finish(out, t0);
+    }
+    std::string text;
+    if (from_static && set == stat->parts) {
+      text = stat->text;
+    } else {
+      text = set.size() == 1 ? "This cannot be met (no plan with at most " + Horizon() +
+                                   " events): "
+                             : "These cannot all be met together (no plan with at most " +
+                                   Horizon() + " events): ";
+      std::vector<std::string> s;
+      for (const auto& p : set) s.push_back(SummaryOf(p));
+      for (std::size_t k = 0; k < s.size(); ++k) text += (k ? " " : "") + s[k];
+    }
+    out["conflicts"].push_back({{"constraints", set}, {"text", text}});
+    out["status"] = proven ? "minimal" : "unknown";
+    if (!proven) out["consistent"] = consistent;
+    Relax(set, stat, out["relaxations"]);
+    return Finish(out, t0);
+  }
+
+ private:
+  Json Finish(Json& out, Clock::time_point t0) {
+    out["stats"] = {
+        {"solver_calls", calls_},
+        {"ms", std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count()}};
+    return out;
+  }
+
+  std::string Horizon() const {
+    return std::to_string(so_.horizon ? *so_.horizon : so_.max_horizon);
+  }
+
+  std::string SummaryOf(const std::string& pointer) const {
+    for (const auto& s : summary_)
+      if (s["pointer"] == pointer) return s["text"].get<std::string>();
+    return PartName(pointer) + ".";
+  }
+
+  // The state plan's JSON with only `keep` of the parts.
+  Json Only(const std::vector<std::string>& keep) const {
+    Json j = base_;
+    for (const auto& p : parts_)
+      if (std::find(keep.begin(), keep.end(), p) == keep.end()) DropPart(j, p);
+    return j;
+  }
+
+  long Remaining() const {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - Clock::now()).count();
+  }
+
+  // Solves a state plan given as JSON. `witness` receives the trajectory when feasible.
+  Verdict Check(const Json& j, Json* witness = nullptr) {
+    Diagnostics diags;
+    auto sp = LoadStatePlan(j, d_, diags);
+    if (!sp) return Verdict::kCannotDrop;  // a part others name: cannot be dropped alone
+    if (FindStaticConflict(d_, *sp)) return Verdict::kInfeasible;
+    long left = Remaining();
+    if (left < 50 || (so_.cancel && so_.cancel->load())) return Verdict::kUnknown;
+    SolveOptions o = so_;
+    o.time_limit_ms = left;
+    ++calls_;
+    auto r = Solve(d_, *sp, o);
+    if (!std::holds_alternative<Json>(r)) return Verdict::kUnknown;
+    const Json& t = std::get<Json>(r);
+    std::string status = t.value("status", "");
+    if (status == "infeasible") return Verdict::kInfeasible;
+    if (status == "optimal" || status == "feasible") {
+      if (witness) *witness = t;
+      return Verdict::kFeasible;
+    }
+    return Verdict::kUnknown;
+  }
+
+  struct Candidate {
+    Json changes;
+    std::string text;
+    double size;  // relative change; drops rank after every bound change
+  };
+
+  // The realized time between a temporal constraint's events or an episode's ends.
+  static std::optional<double> Realized(const Json& t, const std::string& group,
+                                        const std::string& name) {
+    if (group == "temporal") {
+      const Json* x = t.contains("temporal") && t["temporal"].contains(name) ? &t["temporal"][name] : nullptr;
+      if (!x || !(*x)["event1"].is_number() || !(*x)["event2"].is_number()) return std::nullopt;
+      return std::fabs((*x)["event2"].get<double>() - (*x)["event1"].get<double>());
+    }
+    const Json* x = t.contains("episodes") && t["episodes"].contains(name) ? &t["episodes"][name] : nullptr;
+    if (!x || !(*x)["start"].is_number() || !(*x)["end"].is_number()) return std::nullopt;
+    return (*x)["end"].get<double>() - (*x)["start"].get<double>();
+  }
+
+  // The least move of one bound of `pointer` (a temporal constraint or episode) that makes the
+  // whole plan feasible: raising the upper bound or lowering the lower bound.
+  void BoundCandidate(const std::string& pointer, bool upper, std::optional<double> hint,
+                      std::vector<Candidate>& out) {
+    auto t = Tokens(pointer);
+    if (t.size() != 3 || (t[1] != "temporal" && t[1] != "episodes")) return;
+    const Json& part = base_["constraints"][t[1]][t[2]];
+    const double lo = part["lower_bound"].get<double>(), hi = part["upper_bound"].get<double>();
+    const double res = d_.time_resolution;
+    const std::string bp = pointer + (upper ? "/upper_bound" : "/lower_bound");
+    auto with = [&](double v) {
+      Json j = base_;
+      SetBound(j, bp, v);
+      if (upper && v < lo) SetBound(j, pointer + "/lower_bound", v);
+      return j;
+    };
+    if (upper ? hi >= kMaxBound : lo <= 0) return;
+    // A witness with the bound out of the way gives a feasible value.
+    std::optional<double> good;
+    if (hint && (upper ? *hint > hi : *hint < lo)) {
+      Json w;
+      if (Check(with(*hint), &w) == Verdict::kFeasible) good = *hint;
+    }
+    if (!good) {
+      Json w;
+      if (Check(with(upper ? kMaxBound : 0), &w) != Verdict::kFeasible) return;
+      auto v = Realized(w, t[1], t[2]);
+      if (!v) return;
+      good = upper ? std::max(*v, hi + res) : std::min(*v, lo - res);
+      good = std::round(*good / res) * res;
+    }
+    // Binary search between the failing bound and the good value, in steps of the resolution.
+    long bad_steps = std::lround((upper ? hi : lo) / res), good_steps = std::lround(*good / res);
+    bool exact = true;
+    while (std::labs(good_steps - bad_steps) > 1) {
+      long mid = (good_steps + bad_steps) / 2;
+      Verdict v = Check(with(mid * res));
+      if (v == Verdict::kFeasible) good_steps = mid;
+      else if (v == Verdict::kInfeasible) bad_steps = mid;
+      else {
+        exact = false;
+        break;
+      }
+    }
+    const double value = good_steps * res, old = upper ? hi : lo;
+    Json changes = Json::array({{{"pointer", bp}, {"value", Number(value)}}});
+    if (upper && value < lo) changes.push_back({{"pointer", pointer + "/lower_bound"}, {"value", Number(value)}});
+    relaxable_.insert(pointer);
+    std::string text = upper ? "Allow " + SecondsText(value) + " s instead of " + SecondsText(old) +
+                                   " s for " + PartName(pointer) + "."
+                             : "Accept " + SecondsText(value) + " s instead of at least " +
+                                   SecondsText(old) + " s for " + PartName(pointer) + ".";
+    if (!exact) text += " (A smaller change may also work; the time limit ended the search.)";
+    out.push_back({changes, text, std::fabs(value - old) / std::max(old, res)});
+  }
+
+  void Relax(const std::vector<std::string>& set, const std::optional<StaticConflict>& stat,
+             Json& out) {
+    std::vector<Candidate> cands;
+    for (const auto& p : set) {
+      std::optional<double> hint;
+      if (stat && stat->hint && stat->hint->pointer == p + "/upper_bound") hint = stat->hint->value;
+      BoundCandidate(p, true, hint, cands);
+      BoundCandidate(p, false, std::nullopt, cands);
+    }
+    for (const auto& p : set) {
+      Json j = base_;
+      if (!DropPart(j, p)) continue;
+      // Dropping a part relaxes it further than any bound change: when one of its bounds could
+      // be relaxed, the plan without it is feasible too (a plan for the relaxed bound, cut at the
+      // first event at which the rest is met, is a plan for the rest). Else solve.
+      if (relaxable_.count(p) || Check(j) == Verdict::kFeasible)
+        cands.push_back({Json::array({{{"pointer", p}, {"value", nullptr}}}),
+                         "Drop " + PartName(p) + ".", 1e9 + cands.size()});
+    }
+    std::stable_sort(cands.begin(), cands.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.size < b.size; });
+    for (std::size_t k = 0; k < cands.size() && static_cast<int>(k) < eo_.max_relaxations; ++k)
+      out.push_back({{"changes", cands[k].changes}, {"text", cands[k].text}});
+  }
+
+  const Domain& d_;
+  const StatePlan& sp_;
+  SolveOptions so_;
+  const ExplainOptions eo_;
+  const Json base_;
+  const Clock::time_point deadline_;
+  const Json summary_;
+  std::vector<std::string> parts_;
+  std::set<std::string> relaxable_;  // parts with a bound relaxation shown feasible
+  int calls_ = 0;
+};
+
+}  // namespace
+
+Json Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so, const ExplainOptions& eo) {
+  try {
+    return Explainer(d, sp, so, eo).Run();
+  } catch (const std::exception& e) {  // never across the library boundary
+    return {{"conflicts", Json::array()}, {"relaxations", Json::array()}, {"status", "unknown"},
+            {"error", e.what()}};
+  }
+}
+
+void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so, Json& answer) {
+  if (!answer.is_object()) return;
+  answer["state_plan_summary"] = SummarizeStatePlan(d, sp);
+  if (answer.value("status", "") == "infeasible") {
+    ExplainOptions eo;
+    eo.time_limit_ms = so.time_limit_ms;
+    answer["explanation"] = Explain(d, sp, so, eo);
+  }
+}
+
+std::string DialogueNote(const Json& answer) {
+  if (!answer.is_object() || !answer.contains("explanation")) return "";
+  const Json& ex = answer["explanation"];
+  std::string note = "(planner) No plan meets this state plan.";
+  for (const auto& c : ex.value("conflicts", Json::array()))
+    note += " Conflict: " + c.value("text", "") + " (parts: " + c["constraints"].dump() + ")";
+  const Json relax = ex.value("relaxations", Json::array());
+  if (!relax.empty()) {
+    note += " Each of these changes would make it possible:";
+    for (const auto& r : relax) note += " " + r.value("text", "") + " " + r["changes"].dump() + ";";
+  }
+  return note;
+}
+
+std::optional<StatePlan> ApplyChanges(const Domain& d, const StatePlan& sp, const Json& changes,
+                                      Diagnostics& diags) {
+  Json j = StatePlanToJson(sp, d);
+  if (!changes.is_array()) {
+    diags.Error("", "changes must be an array");
+    return std::nullopt;
+  }
+  for (const auto& c : changes) {
+    if (!c.is_object() || !c.contains("pointer") || !c["pointer"].is_string() || !c.contains("value")) {
+      diags.Error("", "a change needs \"pointer\" and \"value\"");
+      return std::nullopt;
+    }
+    const std::string p = c["pointer"];
+    bool ok = c["value"].is_null() ? DropPart(j, p)
+                                   : c["value"].is_number() && SetBound(j, p, c["value"].get<double>());
+    if (!ok) {
+      diags.Error(p, "no state-plan part or bound at this pointer");
+      return std::nullopt;
+    }
+  }
+  return LoadStatePlan(j, d, diags);
+}
+
+}  // namespace ctb

@@ -1,0 +1,167 @@
+// Static analysis: infeasibility proved without search (issue 10, part 2). Soundness against the
+// real solver is checked in explain_test.cpp (solver group).
+#include "planner/analyze/analyze.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <set>
+
+#include "test_util.h"
+
+namespace ctb {
+namespace {
+
+StatePlan LoadFile(const std::string& domain, const std::string& path) {
+  Diagnostics d;
+  auto j = ReadJsonFile(path, d);
+  auto sp = j ? LoadStatePlan(*j, testing::ShippedDomain(domain), d) : std::nullopt;
+  if (!sp) {
+    ADD_FAILURE() << path << testing::AllErrors(d);
+    return StatePlan{};
+  }
+  return *sp;
+}
+
+StatePlan Data(const std::string& domain, const std::string& name) {
+  return LoadFile(domain, testing::SourceDir() + "/tests/data/" + name);
+}
+
+std::set<std::string> Parts(const std::optional<StaticConflict>& c) {
+  return c ? std::set<std::string>(c->parts.begin(), c->parts.end()) : std::set<std::string>{};
+}
+
+TEST(Analyze, DeadlineBelowWarmUp) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Data("presentation", "deadline_infeasible.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->kind, "deadline");
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/temporal/OnWithin10"});
+  ASSERT_TRUE(c->hint);
+  EXPECT_EQ(c->hint->pointer, "/constraints/temporal/OnWithin10/upper_bound");
+  EXPECT_EQ(c->hint->value, 30);  // the warm-up
+  EXPECT_NE(c->text.find("30 s"), std::string::npos) << c->text;
+  EXPECT_NE(c->text.find("10 s"), std::string::npos) << c->text;
+}
+
+TEST(Analyze, DeadlineBelowBoot) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Data("presentation", "explain/deadline_boot.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/temporal/BootedWithin10"});
+  ASSERT_TRUE(c->hint);
+  EXPECT_EQ(c->hint->value, 15);
+}
+
+TEST(Analyze, ChangeNoTransitionAllows) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Data("presentation", "explain/change_not_allowed.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->kind, "never_holds");
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/episodes/StraightOn"});
+  EXPECT_NE(c->text.find("no transition takes proj from projOff to projOn"), std::string::npos)
+      << c->text;
+}
+
+TEST(Analyze, ThesisDirectAnswerToTestPrompt2) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(
+      d, LoadFile("presentation", testing::ConfigDir() + "/examples/presentation/test2_direct.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/temporal/last600"});
+  EXPECT_NE(c->text.find("no transition takes comp from compOn to compBooting"), std::string::npos)
+      << c->text;
+}
+
+TEST(Analyze, UnreachableGoalLocation) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  auto c = FindStaticConflict(d, Data("search_rescue", "explain/unreachable.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/end_state/goal_constraint"});
+  EXPECT_NE(c->text.find("robot1 cannot reach rescuedPerson1 from rescuedPerson2"), std::string::npos)
+      << c->text;
+}
+
+TEST(Analyze, EpisodesThatMustStartTogetherButCannot) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Data("presentation", "explain/overlap.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->kind, "shared_event");
+  EXPECT_EQ(Parts(c), (std::set<std::string>{"/constraints/event/TogetherFromTheStart",
+                                              "/constraints/episodes/ProjectorOn",
+                                              "/constraints/episodes/ProjectorDark"}));
+}
+
+TEST(Analyze, MaintenanceBlocksTheOnlyRoute) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Data("presentation", "explain/maintenance_blocks.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(Parts(c), (std::set<std::string>{"/end_state/goal_constraint",
+                                              "/end_state/maintenance_constraint"}));
+  // Without the maintenance constraint the goal is fine: the guard (connected) is what blocks.
+  Json j = testing::MustParse(R"({"initial_state": {"comp": "compOff", "conn": "disconnected",
+      "proj": "projOff"}, "end_state": {"goal_constraint": "projl[i+1]==projOn"}})");
+  Diagnostics diags;
+  auto sp = LoadStatePlan(j, d, diags);
+  ASSERT_TRUE(sp);
+  EXPECT_FALSE(FindStaticConflict(d, *sp));
+}
+
+TEST(Analyze, DoorsKeptShutBlockEveryRoute) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  Json j = testing::MustParse(R"({"initial_state": {"robot1": "outside", "robot2": "outside",
+      "door1": "closed", "door2": "closed", "door3": "open"},
+      "end_state": {"maintenance_constraint": "door1[i]==closed /\\ door2[i]==closed",
+                    "goal_constraint": "robot1[i+1]==rescuedPerson1"}})");
+  Diagnostics diags;
+  auto sp = LoadStatePlan(j, d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  auto c = FindStaticConflict(d, *sp);
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->parts.size(), 2u);
+  // One door shut leaves the other way.
+  j["end_state"]["maintenance_constraint"] = "door1[i]==closed";
+  sp = LoadStatePlan(j, d, diags);
+  ASSERT_TRUE(sp);
+  EXPECT_FALSE(FindStaticConflict(d, *sp));
+}
+
+TEST(Analyze, ConflictsOnlyTogetherAreLeftToTheSolver) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  EXPECT_FALSE(FindStaticConflict(d, Data("presentation", "explain/three_together.json")));
+}
+
+TEST(Analyze, FeasibleShippedExamplesHaveNoConflictAndTakeMilliseconds) {
+  const char* feasible[][2] = {{"presentation", "presentation/test1_cot.json"},
+                               {"presentation", "presentation/test1_direct.json"},
+                               {"presentation", "presentation/test2_cot.json"},
+                               {"presentation", "presentation/incontext.json"},
+                               {"search_rescue", "search_rescue/test1.json"},
+                               {"search_rescue", "search_rescue/test2.json"},
+                               {"search_rescue", "search_rescue/incontext.json"},
+                               {"assembly", "assembly/test.json"},
+                               {"assembly", "assembly/incontext.json"}};
+  for (auto& [dom, file] : feasible) {
+    SCOPED_TRACE(file);
+    const Domain& d = testing::ShippedDomain(dom);
+    StatePlan sp = LoadFile(dom, testing::ConfigDir() + "/examples/" + file);
+    auto t0 = std::chrono::steady_clock::now();
+    auto all = FindStaticConflicts(d, sp);
+    auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_TRUE(all.empty()) << all[0].text;
+    EXPECT_LT(ms, 200) << "static checks are meant to take milliseconds";
+  }
+}
+
+TEST(Analyze, ShortestTimeFollowsLowerDurations) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = Data("presentation", "deadline_infeasible.json");
+  const int proj = d.AutomatonIndex("proj");
+  const Automaton& p = d.automata[proj];
+  EXPECT_EQ(ShortestTime(d, sp, proj, p.LocationIndex("projWarmUp"), p.LocationIndex("projOn")), 30);
+  EXPECT_EQ(ShortestTime(d, sp, proj, p.LocationIndex("projOn"), p.LocationIndex("projOff")), 60);
+  EXPECT_EQ(ShortestTime(d, sp, proj, p.LocationIndex("projOff"), p.LocationIndex("projOn")), 30);
+}
+
+}  // namespace
+}  // namespace ctb
