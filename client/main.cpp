@@ -32,7 +32,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version print and succeed; every other parse error is a usage error: 2.
+    int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
   }
   for (auto& run : runners) {
     int rc = run();

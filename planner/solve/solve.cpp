@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "planner/analyze/analyze.h"
 #include "planner/encode/encoder.h"
 #include "planner/solve/backend.h"
 #include "planner/solve/bounds.h"
@@ -143,6 +144,16 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   if (auto e = CheckRepresentable(d, sp, objective, max_h)) return *e;
   const char* solver = (o.backend ? *o.backend : DefaultBackend()).Name();
   Json stats = Json::object();
+  if (o.static_analysis) {
+    // A proof of infeasibility without search (planner/analyze): every check over-approximates
+    // the runs, so a conflict holds whatever the horizon.
+    if (auto conflict = FindStaticConflict(d, sp)) {
+      Core c;
+      c.status = "infeasible";
+      stats["static_conflict"] = conflict->text;
+      return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
+    }
+  }
   if (o.decompose) {
     std::vector<SubProblem> parts = SplitProblem(d, sp);
     if (parts.size() > 1) {

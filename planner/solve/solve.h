@@ -42,6 +42,8 @@ struct SolveOptions {
   const std::atomic<bool>* cancel = nullptr;
   // The engine that solves each model; nullptr: MiniZinc with Gecode (backend.h). Not owned.
   SolverBackend* backend = nullptr;
+  // Static checks that prove infeasibility without search (planner/analyze) run first.
+  bool static_analysis = true;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;
 };

@@ -36,7 +36,7 @@ else bad "bad state plan exits 1 (rc=$rc)"; cat "$T/err.txt"; fi
 "$BIN" solve --domain presentation config/examples/presentation/test1_cot.json --horizon 100000 \
   > /dev/null 2> "$T/err.txt"
 rc=$?
-if [ $rc = 1 ] && grep -q "horizon must be between 0 and 200" "$T/err.txt"; then ok "absurd horizon rejected"
+if [ $rc = 2 ] && grep -q "not in range 0 to 200" "$T/err.txt"; then ok "absurd horizon rejected (usage, exit 2)"
 else bad "absurd horizon rejected (rc=$rc)"; cat "$T/err.txt"; fi
 
 "$BIN" solve --domain nosuch config/examples/presentation/test1_cot.json > /dev/null 2> "$T/err.txt"
