@@ -1,6 +1,5 @@
 #include "translator/text.h"
 
-#include <vector>
 
 namespace ctb {
 

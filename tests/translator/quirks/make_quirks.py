@@ -78,6 +78,8 @@ case("single_quotes", "normalised", PRETTY.replace('"', "'"), warn=["single-quot
 case("smart_double_quotes", "normalised", swap_quotes(PRETTY, "\u201c", "\u201d"), warn=["typographic quotes"])
 case("smart_right_quotes_only", "normalised", swap_quotes(PRETTY, "\u201d", "\u201d"), warn=["typographic quotes"])
 case("smart_single_quotes", "normalised", swap_quotes(PRETTY, "\u2018", "\u2019"), warn=["typographic quotes"])
+case("python_dict_repr", "normalised", "state_plan = " + repr(G), warn=["single-quoted"])
+case("plan_inside_an_array", "normalised", "[" + COMPACT + "]")
 case("double_encoded", "normalised", json.dumps(COMPACT), warn=["double-encoded"])
 case("wrapper_state_plan", "normalised", json.dumps({"state_plan": G}, indent=2), warn=["wrapped in {\"state_plan\""])
 case("wrapper_with_reasoning", "normalised", json.dumps({"reasoning": "The projector must be on for {1800} s.", "state_plan": G}), warn=["wrapped"])
