@@ -17,7 +17,8 @@ struct SchemaOptions {
 
 int RunSchema(const SchemaOptions& o) {
   Diagnostics dd;
-  auto domain = LoadDomainByNameOrPath(o.domain, o.config_dir.empty() ? DefaultConfigDir() : o.config_dir, dd);
+  auto domain = LoadDomainByNameOrPath(
+      o.domain, o.config_dir.empty() ? DefaultConfigDir() : o.config_dir, dd);
   if (!domain) {
     PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
     return 2;

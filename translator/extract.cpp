@@ -15,7 +15,9 @@ constexpr std::string_view kLowDouble = "\xE2\x80\x9E";    // „
 constexpr std::string_view kLeftSingle = "\xE2\x80\x98";   // ‘
 constexpr std::string_view kRightSingle = "\xE2\x80\x99";  // ’
 
-bool StartsAt(std::string_view t, std::size_t i, std::string_view s) { return t.substr(i, s.size()) == s; }
+bool StartsAt(std::string_view t, std::size_t i, std::string_view s) {
+  return t.substr(i, s.size()) == s;
+}
 
 bool IsBlank(std::string_view t) {
   for (char c : t)
@@ -31,7 +33,8 @@ std::string Trim(std::string_view t) {
 }
 
 bool LooksLikePlan(const std::string& block) {
-  return block.find("initial_state") != std::string::npos || block.find("state_plan") != std::string::npos;
+  return block.find("initial_state") != std::string::npos ||
+         block.find("state_plan") != std::string::npos;
 }
 
 // A parse error for people: nlohmann's "last read: '...'" (raw bytes, possibly half a
@@ -85,19 +88,30 @@ JsonBlocks FindJsonBlocks(std::string_view t) {
   for (std::size_t i = 0; i < t.size(); ++i) {
     char c = t[i];
     if (str == Str::kDouble || str == Str::kSingle) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == (str == Str::kDouble ? '"' : '\'')) str = Str::kNone;
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == (str == Str::kDouble ? '"' : '\''))
+        str = Str::kNone;
       continue;
     }
     if (str == Str::kSmart) {
-      if (c == '"') str = Str::kNone;
-      else if (StartsAt(t, i, kRightDouble) || StartsAt(t, i, kLeftDouble)) str = Str::kNone, i += 2;
+      if (c == '"')
+        str = Str::kNone;
+      else if (StartsAt(t, i, kRightDouble) || StartsAt(t, i, kLeftDouble))
+        str = Str::kNone, i += 2;
       continue;
     }
     if (depth > 0) {  // strings count only inside a block: prose has stray quotes
-      if (c == '"') { str = Str::kDouble; continue; }
-      if (c == '\'') { str = Str::kSingle; continue; }
+      if (c == '"') {
+        str = Str::kDouble;
+        continue;
+      }
+      if (c == '\'') {
+        str = Str::kSingle;
+        continue;
+      }
       if (StartsAt(t, i, kLeftDouble) || StartsAt(t, i, kRightDouble)) {
         str = Str::kSmart;
         i += 2;
@@ -161,8 +175,10 @@ std::string RelaxJson(std::string_view t, std::vector<std::string>& applied) {
     while (i < n) {
       char c = t[i];
       if (c == '\\' && i + 1 < n) {
-        if (!double_quoted && t[i + 1] == '\'') out += '\'';
-        else out += t.substr(i, 2);
+        if (!double_quoted && t[i + 1] == '\'')
+          out += '\'';
+        else
+          out += t.substr(i, 2);
         i += 2;
         continue;
       }
@@ -172,11 +188,16 @@ std::string RelaxJson(std::string_view t, std::vector<std::string>& applied) {
           out += '"';
           return;
         }
-      if (c == '"') out += "\\\"";
-      else if (c == '\n') out += "\\n", note("raw line breaks inside strings were escaped");
-      else if (c == '\t') out += "\\t", note("raw line breaks inside strings were escaped");
-      else if (static_cast<unsigned char>(c) < 0x20) note("raw line breaks inside strings were escaped");
-      else out += c;
+      if (c == '"')
+        out += "\\\"";
+      else if (c == '\n')
+        out += "\\n", note("raw line breaks inside strings were escaped");
+      else if (c == '\t')
+        out += "\\t", note("raw line breaks inside strings were escaped");
+      else if (static_cast<unsigned char>(c) < 0x20)
+        note("raw line breaks inside strings were escaped");
+      else
+        out += c;
       ++i;
     }
   };
@@ -203,7 +224,8 @@ std::string RelaxJson(std::string_view t, std::vector<std::string>& applied) {
       ++i;
       note("single-quoted strings were read as double-quoted");
       copy_string({"'"}, false);
-    } else if (StartsAt(t, i, kLeftDouble) || StartsAt(t, i, kRightDouble) || StartsAt(t, i, kLowDouble)) {
+    } else if (StartsAt(t, i, kLeftDouble) || StartsAt(t, i, kRightDouble) ||
+               StartsAt(t, i, kLowDouble)) {
       i += 3;
       note("typographic quotes (\xE2\x80\x9C\xE2\x80\x9D) were read as '\"'");
       copy_string({kRightDouble, kLeftDouble, "\""}, false);
@@ -217,8 +239,10 @@ std::string RelaxJson(std::string_view t, std::vector<std::string>& applied) {
       out += ' ';
     } else if (c == ',') {
       std::size_t k = skip_blank(i + 1);
-      if (k < n && (t[k] == '}' || t[k] == ']')) note("trailing commas were removed");
-      else out += c;
+      if (k < n && (t[k] == '}' || t[k] == ']'))
+        note("trailing commas were removed");
+      else
+        out += c;
       ++i;
     } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
       std::size_t k = i;
@@ -250,8 +274,9 @@ Extraction ExtractJson(const std::string& answer) {
       Extraction inner = ExtractJson(s->get<std::string>());
       if (inner.json) {
         inner.notes.insert(inner.notes.begin(),
-                           {"", std::nullopt, "the answer was a JSON string holding the state plan "
-                                              "(double-encoded); it was decoded"});
+                           {"", std::nullopt,
+                            "the answer was a JSON string holding the state plan "
+                            "(double-encoded); it was decoded"});
         return inner;
       }
     }
@@ -269,16 +294,19 @@ Extraction ExtractJson(const std::string& answer) {
   bool unclosed = false;
   auto chosen = Choose(blocks, &plan_like, &unclosed);
   if (!chosen) {
-    if (IsBlank(answer)) x.errors.push_back({"", std::nullopt, "the answer was empty"});
+    if (IsBlank(answer))
+      x.errors.push_back({"", std::nullopt, "the answer was empty"});
     else
-      x.errors.push_back({"", std::nullopt, "the answer holds no JSON object; it reads: \"" +
-                                                Cut(Trim(IsBlank(text) ? answer : text)) + "\""});
+      x.errors.push_back({"", std::nullopt,
+                          "the answer holds no JSON object; it reads: \"" +
+                              Cut(Trim(IsBlank(text) ? answer : text)) + "\""});
     return x;
   }
   if (plan_like > 1)
-    x.notes.push_back({"", std::nullopt, "the answer holds " + std::to_string(plan_like) +
-                                             " state plans (a draft and a final one?); the last "
-                                             "one was read"});
+    x.notes.push_back({"", std::nullopt,
+                       "the answer holds " + std::to_string(plan_like) +
+                           " state plans (a draft and a final one?); the last "
+                           "one was read"});
   Diagnostics strict;
   if (auto j = ParseJsonStrict(*chosen, strict)) {
     x.json = std::move(j);
@@ -294,10 +322,12 @@ Extraction ExtractJson(const std::string& answer) {
       return x;
     }
   }
-  for (const auto& e : strict.errors()) x.errors.push_back({"", std::nullopt, Humanize(e, *chosen)});
+  for (const auto& e : strict.errors())
+    x.errors.push_back({"", std::nullopt, Humanize(e, *chosen)});
   if (unclosed)
-    x.errors.push_back({"", std::nullopt, "the JSON object is never closed: the answer looks cut "
-                                          "off; answer with the complete, shorter object"});
+    x.errors.push_back({"", std::nullopt,
+                        "the JSON object is never closed: the answer looks cut "
+                        "off; answer with the complete, shorter object"});
   return x;
 }
 

@@ -23,7 +23,8 @@ std::vector<std::string> StatedDurations(const std::string& command) {
 
 std::vector<Diagnostic> DefaultedStateConstraints(const Json& plan) {
   std::vector<Diagnostic> out;
-  if (!plan.is_object() || !plan.contains("constraints") || !plan["constraints"].is_object()) return out;
+  if (!plan.is_object() || !plan.contains("constraints") || !plan["constraints"].is_object())
+    return out;
   const Json& c = plan["constraints"];
   if (!c.contains("episodes") || !c["episodes"].is_object()) return out;
   for (auto it = c["episodes"].begin(); it != c["episodes"].end(); ++it) {
@@ -42,8 +43,10 @@ bool GoalHoldsAtStart(const StatePlan& sp, const Domain& d) {
   if (sp.goal.raw_info.IsChange()) return false;  // a change cannot hold at e[0]
   return Evaluate(sp.goal.raw, [&](const Expr& atom) {
     switch (atom.var_kind) {
-      case VarKind::kLocation: return sp.initial[atom.target];
-      default: return 0;  // commands idle (no-op), accepting automata waiting
+      case VarKind::kLocation:
+        return sp.initial[atom.target];
+      default:
+        return 0;  // commands idle (no-op), accepting automata waiting
     }
   });
 }
@@ -57,9 +60,11 @@ MeaningFindings CheckMeaning(const Json& plan, const StatePlan& sp, const Domain
     std::string list;
     for (std::size_t i = 0; i < durations.size() && i < 5; ++i)
       list += (i ? ", \"" : "\"") + Cut(durations[i], 40) + "\"";
-    f.blocking.push_back({"/constraints", std::nullopt,
-                          "the command states durations (" + list + ") but the state plan has no "
-                          "episode or temporal constraint: add the constraints the command states"});
+    f.blocking.push_back(
+        {"/constraints", std::nullopt,
+         "the command states durations (" + list +
+             ") but the state plan has no "
+             "episode or temporal constraint: add the constraints the command states"});
   }
   if (GoalHoldsAtStart(sp, d))
     f.doubtful.push_back({"/end_state/goal_constraint", std::nullopt,
@@ -108,8 +113,10 @@ std::vector<Diagnostic> Dropped(const Json& before, const Json& after, bool goal
       if (!a.count(n)) missing += (missing.empty() ? "'" : ", '") + Cut(n, 60) + "'";
     out.push_back({std::string("/constraints/") + group, std::nullopt,
                    "the repair dropped " + std::to_string(b.size() - a.size()) + " of the " +
-                       std::to_string(b.size()) + " " + group + " constraint(s) of the previous "
-                       "answer (" + missing + "); keep every constraint the command states"});
+                       std::to_string(b.size()) + " " + group +
+                       " constraint(s) of the previous "
+                       "answer (" +
+                       missing + "); keep every constraint the command states"});
   }
   if (goal_flagged) return out;
   auto gb = GoalConjuncts(before), ga = GoalConjuncts(after);

@@ -72,7 +72,8 @@ std::optional<double> ParseDuration(const std::string& raw) {
   std::size_t a = 0;
   while (a < t.size() && std::isspace(static_cast<unsigned char>(t[a]))) ++a;
   t = t.substr(a);
-  if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '.')) return std::nullopt;
+  if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '.'))
+    return std::nullopt;
   char* end = nullptr;
   double v = std::strtod(t.c_str(), &end);
   if (!end || !std::isfinite(v) || v < 0) return std::nullopt;
@@ -80,19 +81,24 @@ std::optional<double> ParseDuration(const std::string& raw) {
   while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit[0]))) unit.erase(0, 1);
   if (!unit.empty() && unit.back() == '.') unit.pop_back();
   double scale;
-  if (unit.empty() || unit == "s" || unit == "sec" || unit == "secs" || unit == "second" || unit == "seconds")
+  if (unit.empty() || unit == "s" || unit == "sec" || unit == "secs" || unit == "second" ||
+      unit == "seconds")
     scale = 1;
-  else if (unit == "ms" || unit == "millisecond" || unit == "milliseconds") scale = 0.001;
-  else if (unit == "min" || unit == "mins" || unit == "minute" || unit == "minutes") scale = 60;
-  else if (unit == "h" || unit == "hr" || unit == "hrs" || unit == "hour" || unit == "hours") scale = 3600;
-  else return std::nullopt;
+  else if (unit == "ms" || unit == "millisecond" || unit == "milliseconds")
+    scale = 0.001;
+  else if (unit == "min" || unit == "mins" || unit == "minute" || unit == "minutes")
+    scale = 60;
+  else if (unit == "h" || unit == "hr" || unit == "hrs" || unit == "hour" || unit == "hours")
+    scale = 3600;
+  else
+    return std::nullopt;
   return v * scale;
 }
 
 std::string NormalizeOperators(const std::string& text, const Domain& d,
                                std::vector<std::string>& changes) {
   static const std::set<std::string> kAnd = {"and", "AND", "And"}, kOr = {"or", "OR", "Or"},
-                                      kNot = {"NOT", "Not"};
+                                     kNot = {"NOT", "Not"};
   std::set<std::string> seen;
   auto note = [&](const std::string& what) {
     if (seen.insert(what).second) changes.push_back(what);
@@ -106,21 +112,32 @@ std::string NormalizeOperators(const std::string& text, const Domain& d,
   const std::size_t n = text.size();
   for (std::size_t i = 0; i < n;) {
     auto at = [&](std::string_view s) { return std::string_view(text).substr(i, s.size()) == s; };
-    if (at("&&")) out += "/\\", i += 2, note("'&&' as '/\\'");
-    else if (at("||")) out += "\\/", i += 2, note("'||' as '\\/'");
-    else if (at("\xE2\x88\xA7")) out += "/\\", i += 3, note("'\xE2\x88\xA7' as '/\\'");
-    else if (at("\xE2\x88\xA8")) out += "\\/", i += 3, note("'\xE2\x88\xA8' as '\\/'");
-    else if (at("\xC2\xAC")) out += "not ", i += 2, note("'\xC2\xAC' as 'not'");
-    else if (at("\xE2\x89\xA0")) out += "!=", i += 3, note("'\xE2\x89\xA0' as '!='");
-    else if (at("!") && !at("!=")) out += "not ", i += 1, note("'!' as 'not'");
+    if (at("&&"))
+      out += "/\\", i += 2, note("'&&' as '/\\'");
+    else if (at("||"))
+      out += "\\/", i += 2, note("'||' as '\\/'");
+    else if (at("\xE2\x88\xA7"))
+      out += "/\\", i += 3, note("'\xE2\x88\xA7' as '/\\'");
+    else if (at("\xE2\x88\xA8"))
+      out += "\\/", i += 3, note("'\xE2\x88\xA8' as '\\/'");
+    else if (at("\xC2\xAC"))
+      out += "not ", i += 2, note("'\xC2\xAC' as 'not'");
+    else if (at("\xE2\x89\xA0"))
+      out += "!=", i += 3, note("'\xE2\x89\xA0' as '!='");
+    else if (at("!") && !at("!="))
+      out += "not ", i += 1, note("'!' as 'not'");
     else if (std::isalpha(static_cast<unsigned char>(text[i])) || text[i] == '_') {
       std::size_t k = i;
       while (k < n && IsWordChar(text[k])) ++k;
       std::string w = text.substr(i, k - i);
-      if (kAnd.count(w) && !is_name(w)) out += "/\\", note("'" + w + "' as '/\\'");
-      else if (kOr.count(w) && !is_name(w)) out += "\\/", note("'" + w + "' as '\\/'");
-      else if (kNot.count(w) && !is_name(w)) out += "not", note("'" + w + "' as 'not'");
-      else out += w;
+      if (kAnd.count(w) && !is_name(w))
+        out += "/\\", note("'" + w + "' as '/\\'");
+      else if (kOr.count(w) && !is_name(w))
+        out += "\\/", note("'" + w + "' as '\\/'");
+      else if (kNot.count(w) && !is_name(w))
+        out += "not", note("'" + w + "' as 'not'");
+      else
+        out += w;
       i = k;
     } else {
       out += text[i++];
@@ -132,7 +149,8 @@ std::string NormalizeOperators(const std::string& text, const Domain& d,
 Json NormalizeAnswer(Json j, const Domain& d, std::vector<Diagnostic>& notes) {
   for (int round = 0; round < 3; ++round) {
     if (auto inner = Decoded(j)) {
-      notes.push_back({"", std::nullopt, "the state plan was a JSON string (double-encoded); it was decoded"});
+      notes.push_back(
+          {"", std::nullopt, "the state plan was a JSON string (double-encoded); it was decoded"});
       j = std::move(*inner);
       continue;
     }
@@ -143,8 +161,9 @@ Json NormalizeAnswer(Json j, const Domain& d, std::vector<Diagnostic>& notes) {
         Json inner = j[key];
         if (auto decoded = Decoded(inner)) inner = std::move(*decoded);
         if (!inner.is_object()) continue;
-        notes.push_back({"", std::nullopt, std::string("the state plan was wrapped in {\"") + key +
-                                               "\": ...}; the inner object was read"});
+        notes.push_back({"", std::nullopt,
+                         std::string("the state plan was wrapped in {\"") + key +
+                             "\": ...}; the inner object was read"});
         j = std::move(inner);
         unwrapped = true;
         break;
@@ -164,8 +183,9 @@ Json NormalizeAnswer(Json j, const Domain& d, std::vector<Diagnostic>& notes) {
     const char* name;
     std::vector<const char*> conditions;
   };
-  for (const Group& g : {Group{"episodes", {"accepting_constraint", "state_constraint"}},
-                         Group{"temporal", {"accepting_event1_constraint", "accepting_event2_constraint"}}}) {
+  for (const Group& g :
+       {Group{"episodes", {"accepting_constraint", "state_constraint"}},
+        Group{"temporal", {"accepting_event1_constraint", "accepting_event2_constraint"}}}) {
     if (!c.contains(g.name) || !c[g.name].is_object()) continue;
     Json& group = c[g.name];
     for (auto it = group.begin(); it != group.end(); ++it) {

@@ -1,6 +1,5 @@
 #include "translator/text.h"
 
-
 namespace ctb {
 
 namespace {
@@ -12,10 +11,14 @@ std::size_t SequenceLength(std::string_view text, std::size_t i) {
   if (c < 0x80) return 1;
   std::size_t n;
   unsigned int cp;
-  if (c >= 0xC2 && c <= 0xDF) n = 2, cp = c & 0x1F;
-  else if (c >= 0xE0 && c <= 0xEF) n = 3, cp = c & 0x0F;
-  else if (c >= 0xF0 && c <= 0xF4) n = 4, cp = c & 0x07;
-  else return 0;
+  if (c >= 0xC2 && c <= 0xDF)
+    n = 2, cp = c & 0x1F;
+  else if (c >= 0xE0 && c <= 0xEF)
+    n = 3, cp = c & 0x0F;
+  else if (c >= 0xF0 && c <= 0xF4)
+    n = 4, cp = c & 0x07;
+  else
+    return 0;
   if (i + n > text.size()) return 0;
   for (std::size_t k = 1; k < n; ++k) {
     if ((b(i + k) & 0xC0) != 0x80) return 0;
@@ -68,8 +71,10 @@ std::string Around(std::string_view text, std::size_t at, std::size_t radius) {
   }
   std::string before = ValidUtf8(text.substr(start, at - start));
   std::string after = Cut(text.substr(at), radius);
-  if (after.size() >= 3 && after.compare(after.size() - 3, 3, "...") == 0) after.resize(after.size() - 3);
-  std::string out = (start > 0 ? "..." : "") + before + after + (at + after.size() < text.size() ? "..." : "");
+  if (after.size() >= 3 && after.compare(after.size() - 3, 3, "...") == 0)
+    after.resize(after.size() - 3);
+  std::string out =
+      (start > 0 ? "..." : "") + before + after + (at + after.size() < text.size() ? "..." : "");
   for (auto& c : out)
     if (c == '\n' || c == '\r' || c == '\t') c = ' ';
   return out;

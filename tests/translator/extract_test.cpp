@@ -1,7 +1,8 @@
 // Finding and reading the JSON of an answer.
+#include "translator/extract.h"
+
 #include <gtest/gtest.h>
 
-#include "translator/extract.h"
 #include "translator/text.h"
 
 namespace ctb {
@@ -22,7 +23,8 @@ TEST(FindJson, FencesProseAndNothing) {
 }
 
 TEST(FindJson, BracesInsideStringsDoNotCount) {
-  EXPECT_EQ(*FindJson("{\"a\": \"}{\", \"initial_state\": {}} after"), "{\"a\": \"}{\", \"initial_state\": {}}");
+  EXPECT_EQ(*FindJson("{\"a\": \"}{\", \"initial_state\": {}} after"),
+            "{\"a\": \"}{\", \"initial_state\": {}}");
   EXPECT_EQ(*FindJson("{'a': '}', 'initial_state': 1}"), "{'a': '}', 'initial_state': 1}");
 }
 
@@ -47,14 +49,19 @@ TEST(RelaxJson, EachSlipIsMendedAndNamedOnce) {
   EXPECT_EQ(Json::parse(r), Json::parse("{\"a\": true, \"b\": [1, 2], \"c\": null}"));
   EXPECT_EQ(applied.size(), 4u);
   applied.clear();
-  r = RelaxJson("{\xE2\x80\x9C" "a\xE2\x80\x9D: \xE2\x80\x9C" "say \xE2\x80\x98hi\xE2\x80\x99\xE2\x80\x9D}", applied);
+  r = RelaxJson(
+      "{\xE2\x80\x9C"
+      "a\xE2\x80\x9D: \xE2\x80\x9C"
+      "say \xE2\x80\x98hi\xE2\x80\x99\xE2\x80\x9D}",
+      applied);
   EXPECT_EQ(Json::parse(r)["a"], "say \xE2\x80\x98hi\xE2\x80\x99");
   applied.clear();
   r = RelaxJson("{\"a\": \"line1\nline2\"}", applied);
   EXPECT_EQ(Json::parse(r)["a"], "line1\nline2");
   ASSERT_EQ(applied.size(), 1u);
   applied.clear();
-  EXPECT_EQ(RelaxJson("{\"x\": \"it's // not a comment, ]\"}", applied), "{\"x\": \"it's // not a comment, ]\"}");
+  EXPECT_EQ(RelaxJson("{\"x\": \"it's // not a comment, ]\"}", applied),
+            "{\"x\": \"it's // not a comment, ]\"}");
   EXPECT_TRUE(applied.empty());
 }
 
@@ -83,7 +90,8 @@ TEST(ExtractJson, AParseErrorQuotesTheTextInsteadOfAnOffset) {
   ASSERT_FALSE(x.errors.empty());
   EXPECT_FALSE(x.errors[0].offset);
   EXPECT_NE(x.errors[0].message.find("near: `"), std::string::npos) << x.errors[0].message;
-  EXPECT_NE(x.errors[0].message.find("\"compOff\" \"proj\""), std::string::npos) << x.errors[0].message;
+  EXPECT_NE(x.errors[0].message.find("\"compOff\" \"proj\""), std::string::npos)
+      << x.errors[0].message;
   EXPECT_EQ(x.errors[0].message.find("last read"), std::string::npos);
 }
 
@@ -100,7 +108,8 @@ TEST(ExtractJson, AParseErrorOnANonAsciiByteGivesValidUtf8) {
 TEST(ExtractJson, NoJsonQuotesTheModelsWords) {
   Extraction x = ExtractJson("I'm sorry, I cannot do that.");
   ASSERT_EQ(x.errors.size(), 1u);
-  EXPECT_EQ(x.errors[0].message, "the answer holds no JSON object; it reads: \"I'm sorry, I cannot do that.\"");
+  EXPECT_EQ(x.errors[0].message,
+            "the answer holds no JSON object; it reads: \"I'm sorry, I cannot do that.\"");
   x = ExtractJson(" \n");
   ASSERT_EQ(x.errors.size(), 1u);
   EXPECT_EQ(x.errors[0].message, "the answer was empty");

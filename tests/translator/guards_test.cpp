@@ -1,8 +1,9 @@
 // Meaning guards.
+#include "translator/guards.h"
+
 #include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
-#include "translator/guards.h"
 
 namespace ctb {
 namespace {
@@ -22,7 +23,8 @@ Json Off(const std::string& goal) {
 }
 
 TEST(StatedDurations, NumbersWithTimeUnitsOnly) {
-  auto d = StatedDurations("stay on for 1800 seconds, off within 10 min, in 2h; rescue Person 1 and 3 robots");
+  auto d = StatedDurations(
+      "stay on for 1800 seconds, off within 10 min, in 2h; rescue Person 1 and 3 robots");
   ASSERT_EQ(d.size(), 3u);
   EXPECT_EQ(d[0], "1800 seconds");
   EXPECT_EQ(d[1], "10 min");
@@ -31,13 +33,16 @@ TEST(StatedDurations, NumbersWithTimeUnitsOnly) {
 }
 
 TEST(GoalHoldsAtStart, AnEmptyPlanIsCaughtAChangeOrAConstraintIsNot) {
-  EXPECT_TRUE(GoalHoldsAtStart(Load(Off("projl[i+1]==projOff /\\ compl[i+1]==compOff")), Presentation()));
+  EXPECT_TRUE(
+      GoalHoldsAtStart(Load(Off("projl[i+1]==projOff /\\ compl[i+1]==compOff")), Presentation()));
   EXPECT_FALSE(GoalHoldsAtStart(Load(Off("projl[i+1]==projOn")), Presentation()));
-  EXPECT_FALSE(GoalHoldsAtStart(Load(Off("projl[i]==projOn /\\ projl[i+1]==projOff")), Presentation()));
+  EXPECT_FALSE(
+      GoalHoldsAtStart(Load(Off("projl[i]==projOn /\\ projl[i+1]==projOff")), Presentation()));
   Json with_episode = Off("projl[i+1]==projOff");
   with_episode["constraints"]["episodes"]["On"] = {{"accepting_constraint", "projl[i]==projOn"},
                                                    {"state_constraint", "projl[i]==projOn"},
-                                                   {"lower_bound", 10}, {"upper_bound", 10}};
+                                                   {"lower_bound", 10},
+                                                   {"upper_bound", 10}};
   EXPECT_FALSE(GoalHoldsAtStart(Load(with_episode), Presentation()));
 }
 
@@ -60,9 +65,12 @@ TEST(CheckMeaning, AnEmptyPlanIsADoubt) {
 
 TEST(DefaultedStateConstraints, OneWarningPerEpisodeWithoutOne) {
   Json j = Off("projl[i+1]==projOff");
-  j["constraints"]["episodes"]["A"] = {{"accepting_constraint", "projl[i]==projOn"}, {"lower_bound", 1}, {"upper_bound", 1}};
-  j["constraints"]["episodes"]["B"] = {{"accepting_constraint", "projl[i]==projOn"}, {"state_constraint", "projl[i]==projOn"},
-                                       {"lower_bound", 1}, {"upper_bound", 1}};
+  j["constraints"]["episodes"]["A"] = {
+      {"accepting_constraint", "projl[i]==projOn"}, {"lower_bound", 1}, {"upper_bound", 1}};
+  j["constraints"]["episodes"]["B"] = {{"accepting_constraint", "projl[i]==projOn"},
+                                       {"state_constraint", "projl[i]==projOn"},
+                                       {"lower_bound", 1},
+                                       {"upper_bound", 1}};
   auto w = DefaultedStateConstraints(j);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0].pointer, "/constraints/episodes/A/state_constraint");

@@ -1,10 +1,10 @@
 // Transport as documented (docs/translator.md): the real libcurl client against the loopback
 // mock endpoint. One deadline per request, the answer size limit, the output limit and the
 // retry after finish_reason "length", the key masked, answers in other shapes.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstdlib>
-
-#include <gtest/gtest.h>
 
 #include "mock_llm.h"
 #include "translator/llm.h"
@@ -31,7 +31,9 @@ LlmConfig Config(const MockLlmServer& m) {
 ChatRequest Hi() { return ChatRequest{{{"user", "hi"}}}; }
 
 long MsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() -
+                                                               t0)
+      .count();
 }
 
 MockReply Raw(const Json& message, const std::string& finish = "stop") {
@@ -53,7 +55,8 @@ TEST(HttpClientTransport, OneDeadlineCoversEveryRetry) {
   EXPECT_LT(ms, 1400);
   EXPECT_LE(client->attempts(), 3);
   const Error& e = std::get<Error>(r);
-  EXPECT_TRUE(e.code == ErrorCode::kUpstreamTimeout || e.message.find("no time left") != std::string::npos)
+  EXPECT_TRUE(e.code == ErrorCode::kUpstreamTimeout ||
+              e.message.find("no time left") != std::string::npos)
       << e.message;
 }
 
@@ -139,15 +142,22 @@ TEST(HttpClientTransport, AnUnusableAnswerIsQuoted) {
   m.Then({200, "<html>upstream proxy error</html>", {}, 0});
   auto r = MakeHttpClient(Config(m))->Complete(Hi());
   ASSERT_TRUE(std::holds_alternative<Error>(r));
-  EXPECT_NE(std::get<Error>(r).message.find("it began: \"<html>upstream proxy error"), std::string::npos);
+  EXPECT_NE(std::get<Error>(r).message.find("it began: \"<html>upstream proxy error"),
+            std::string::npos);
 }
 
 TEST(HttpClientAnswer, ContentPartsToolCallsAndRefusals) {
   MockLlmServer m;
-  m.Then(Raw({{"role", "assistant"}, {"content", {{{"type", "text"}, {"text", "{\"a\":"}}, {{"type", "text"}, {"text", " 1}"}}}}}));
-  m.Then(Raw({{"role", "assistant"}, {"content", nullptr},
-              {"tool_calls", {{{"type", "function"}, {"function", {{"name", "plan"}, {"arguments", "{\"b\": 2}"}}}}}}}));
-  m.Then(Raw({{"role", "assistant"}, {"content", nullptr}, {"refusal", "I cannot help with that."}}));
+  m.Then(Raw({{"role", "assistant"},
+              {"content",
+               {{{"type", "text"}, {"text", "{\"a\":"}}, {{"type", "text"}, {"text", " 1}"}}}}}));
+  m.Then(Raw(
+      {{"role", "assistant"},
+       {"content", nullptr},
+       {"tool_calls",
+        {{{"type", "function"}, {"function", {{"name", "plan"}, {"arguments", "{\"b\": 2}"}}}}}}}));
+  m.Then(
+      Raw({{"role", "assistant"}, {"content", nullptr}, {"refusal", "I cannot help with that."}}));
   auto client = MakeHttpClient(Config(m));
   auto parts = std::get<ChatResponse>(client->Complete(Hi()));
   EXPECT_EQ(parts.content, "{\"a\": 1}");
@@ -163,15 +173,22 @@ TEST(HttpClientAnswer, ContentPartsToolCallsAndRefusals) {
 
 TEST(LlmConfig, ResponseFormatSettingAndItsAlias) {
   auto with = [](const char* rf, const char* json_mode) {
-    if (rf) setenv("CTB_LLM_RESPONSE_FORMAT", rf, 1); else unsetenv("CTB_LLM_RESPONSE_FORMAT");
-    if (json_mode) setenv("CTB_LLM_JSON_MODE", json_mode, 1); else unsetenv("CTB_LLM_JSON_MODE");
+    if (rf)
+      setenv("CTB_LLM_RESPONSE_FORMAT", rf, 1);
+    else
+      unsetenv("CTB_LLM_RESPONSE_FORMAT");
+    if (json_mode)
+      setenv("CTB_LLM_JSON_MODE", json_mode, 1);
+    else
+      unsetenv("CTB_LLM_JSON_MODE");
     auto c = LlmConfig::FromEnv();
     unsetenv("CTB_LLM_RESPONSE_FORMAT");
     unsetenv("CTB_LLM_JSON_MODE");
     return c;
   };
   EXPECT_EQ(std::get<LlmConfig>(with(nullptr, nullptr)).response_format, ResponseFormat::kNone);
-  EXPECT_EQ(std::get<LlmConfig>(with("json_schema", nullptr)).response_format, ResponseFormat::kJsonSchema);
+  EXPECT_EQ(std::get<LlmConfig>(with("json_schema", nullptr)).response_format,
+            ResponseFormat::kJsonSchema);
   EXPECT_EQ(std::get<LlmConfig>(with("none", "1")).response_format, ResponseFormat::kNone);
   EXPECT_EQ(std::get<LlmConfig>(with(nullptr, "1")).response_format, ResponseFormat::kJsonObject);
   auto bad = with("yaml", nullptr);

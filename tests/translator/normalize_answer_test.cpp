@@ -1,8 +1,9 @@
 // Normalisations of a parsed answer: each one applied is a warning with its pointer.
+#include "translator/normalize_answer.h"
+
 #include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
-#include "translator/normalize_answer.h"
 
 namespace ctb {
 namespace {
@@ -15,14 +16,16 @@ TEST(NormalizeOperators, OtherSpellingsOfAndOrNot) {
             "a[i]==x /\\ b[i]==y \\/ c[i]==z");
   EXPECT_EQ(changes.size(), 2u);
   changes.clear();
-  EXPECT_EQ(NormalizeOperators("a[i]==x \xE2\x88\xA7 b[i]==y \xE2\x88\xA8 c[i]\xE2\x89\xA0z", Presentation(), changes),
+  EXPECT_EQ(NormalizeOperators("a[i]==x \xE2\x88\xA7 b[i]==y \xE2\x88\xA8 c[i]\xE2\x89\xA0z",
+                               Presentation(), changes),
             "a[i]==x /\\ b[i]==y \\/ c[i]!=z");
   changes.clear();
   EXPECT_EQ(NormalizeOperators("x and y AND z or w OR v", Presentation(), changes),
             "x /\\ y /\\ z \\/ w \\/ v");
   changes.clear();
-  EXPECT_EQ(NormalizeOperators("!(projl[i]==projOn) /\\ projl[i]!=projOff", Presentation(), changes),
-            "not (projl[i]==projOn) /\\ projl[i]!=projOff");
+  EXPECT_EQ(
+      NormalizeOperators("!(projl[i]==projOn) /\\ projl[i]!=projOff", Presentation(), changes),
+      "not (projl[i]==projOn) /\\ projl[i]!=projOff");
   changes.clear();
   EXPECT_EQ(NormalizeOperators("projl[i]==projOn /\\ brand[i]==x", Presentation(), changes),
             "projl[i]==projOn /\\ brand[i]==x");  // words containing "and" are names
@@ -45,7 +48,8 @@ TEST(ParseDuration, NumbersAndUnambiguousUnits) {
 TEST(NormalizeAnswer, WrappersDoubleEncodingOperatorsAndUnitsEachWarned) {
   Json inner = {{"initial_state", {{"comp", "compOff"}}},
                 {"end_state", {{"goal_constraint", "compl[i+1]==compOn && projl[i+1]==projOn"}}},
-                {"constraints", {{"episodes", {{"On", {{"lower_bound", "30 min"}, {"upper_bound", 1800}}}}}}}};
+                {"constraints",
+                 {{"episodes", {{"On", {{"lower_bound", "30 min"}, {"upper_bound", 1800}}}}}}}};
   Json answer = {{"state_plan", inner.dump()}};
   std::vector<Diagnostic> notes;
   Json out = NormalizeAnswer(answer, Presentation(), notes);
@@ -71,7 +75,9 @@ TEST(NormalizeAnswer, AnUnreadableBoundIsLeftForTheChecker) {
   Json plan = {{"constraints", {{"temporal", {{"T", {{"lower_bound", "a while"}}}}}}}};
   plan["initial_state"] = Json::object();
   std::vector<Diagnostic> notes;
-  EXPECT_EQ(NormalizeAnswer(plan, Presentation(), notes)["constraints"]["temporal"]["T"]["lower_bound"], "a while");
+  EXPECT_EQ(
+      NormalizeAnswer(plan, Presentation(), notes)["constraints"]["temporal"]["T"]["lower_bound"],
+      "a while");
   EXPECT_TRUE(notes.empty());
 }
 

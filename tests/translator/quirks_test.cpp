@@ -2,10 +2,10 @@
 // replayed through the real HTTP client against the loopback mock endpoint in two scenarios:
 // the endpoint gives a good answer to the repair request, or repeats its mistake. In both: no
 // crash, no plan accepted with another meaning, and a clear error otherwise.
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
 #include "mock_llm.h"
@@ -40,7 +40,8 @@ Json GoodPlan() {
 
 MockReply Reply(const Json& c) {
   if (!c.contains("message")) return MockReply::Chat(c["content"].get<std::string>());
-  Json j = {{"id", "mock"}, {"object", "chat.completion"},
+  Json j = {{"id", "mock"},
+            {"object", "chat.completion"},
             {"choices", {{{"index", 0}, {"message", c["message"]}, {"finish_reason", "stop"}}}}};
   return {200, j.dump(), {}, 0};
 }
@@ -62,7 +63,8 @@ enum class Scenario { kRepairs, kRepeats };
 void RunCase(const Json& c, Scenario scenario) {
   const std::string name = c["name"];
   const std::string cls = c["class"];
-  SCOPED_TRACE(name + (scenario == Scenario::kRepairs ? " (endpoint repairs)" : " (endpoint repeats)"));
+  SCOPED_TRACE(name +
+               (scenario == Scenario::kRepairs ? " (endpoint repairs)" : " (endpoint repeats)"));
   const Json good = c.contains("good") ? c["good"] : GoodPlan();
   MockLlmServer m;
   m.Then(Reply(c));
@@ -91,8 +93,8 @@ void RunCase(const Json& c, Scenario scenario) {
   }
   bool expect_error = cls == "judgement" && scenario == Scenario::kRepeats;
   if (expect_error) {
-    ASSERT_TRUE(std::holds_alternative<Error>(r)) << "a plan was accepted: "
-                                                  << std::get<TranslateResult>(r).state_plan.dump();
+    ASSERT_TRUE(std::holds_alternative<Error>(r))
+        << "a plan was accepted: " << std::get<TranslateResult>(r).state_plan.dump();
     const Error& e = std::get<Error>(r);
     EXPECT_EQ(e.code, ErrorCode::kUnprocessable) << AllText(e);
     EXPECT_NE(AllText(e).find(c["error"].get<std::string>()), std::string::npos) << AllText(e);
@@ -107,7 +109,8 @@ void RunCase(const Json& c, Scenario scenario) {
     EXPECT_EQ(t.state_plan, good) << t.state_plan.dump(2);
     for (const auto& w : c.value("warn", Json::array()))
       EXPECT_NE(AllWarnings(t).find(w.get<std::string>()), std::string::npos)
-          << "missing warning '" << w.get<std::string>() << "' in:\n" << AllWarnings(t);
+          << "missing warning '" << w.get<std::string>() << "' in:\n"
+          << AllWarnings(t);
     if (!c.contains("warn")) EXPECT_TRUE(t.warnings.empty()) << AllWarnings(t);
   } else if (scenario == Scenario::kRepairs) {  // judgement or doubt, repaired
     EXPECT_EQ(t.repairs, 1);
@@ -120,7 +123,8 @@ void RunCase(const Json& c, Scenario scenario) {
     EXPECT_EQ(t.repairs, 2);
     for (const auto& w : c["warn"])
       EXPECT_NE(AllWarnings(t).find(w.get<std::string>()), std::string::npos)
-          << "missing warning '" << w.get<std::string>() << "' in:\n" << AllWarnings(t);
+          << "missing warning '" << w.get<std::string>() << "' in:\n"
+          << AllWarnings(t);
   }
 }
 

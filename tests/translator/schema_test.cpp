@@ -1,13 +1,14 @@
 // The JSON Schema of the state plan: generated from the domain, accepts every shipped example,
 // rejects broken ones.
-#include <filesystem>
-#include <functional>
+#include "translator/schema.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <functional>
+
 #include "../planner/test_util.h"
 #include "schema_validator.h"
-#include "translator/schema.h"
 
 namespace ctb {
 namespace {
@@ -37,8 +38,10 @@ TEST(StatePlanSchema, NamesTheAutomataAndTheirLocations) {
 
 TEST(StatePlanSchema, AcceptsEveryShippedExample) {
   int checked = 0;
-  for (const auto& dir : std::filesystem::directory_iterator(ctb::testing::ConfigDir() + "/examples")) {
-    const Json schema = StatePlanSchema(ctb::testing::ShippedDomain(dir.path().filename().string()));
+  for (const auto& dir :
+       std::filesystem::directory_iterator(ctb::testing::ConfigDir() + "/examples")) {
+    const Json schema =
+        StatePlanSchema(ctb::testing::ShippedDomain(dir.path().filename().string()));
     for (const auto& f : std::filesystem::directory_iterator(dir.path())) {
       auto errors = Validate(schema, ReadJson(f.path().string()));
       EXPECT_TRUE(errors.empty()) << f.path() << ": " << errors[0];
@@ -62,14 +65,30 @@ TEST(StatePlanSchema, RejectsBrokenPlans) {
       {"missing automaton", [](Json& j) { j["initial_state"].erase("conn"); }},
       {"no initial_state", [](Json& j) { j.erase("initial_state"); }},
       {"no goal", [](Json& j) { j["end_state"].erase("goal_constraint"); }},
-      {"bound as a string", [](Json& j) { j["constraints"]["episodes"]["ProjectorOnDuration"]["lower_bound"] = "30 min"; }},
-      {"negative bound", [](Json& j) { j["constraints"]["temporal"]["ProjectorOnWithin60"]["upper_bound"] = -1; }},
-      {"no state_constraint", [](Json& j) { j["constraints"]["episodes"]["ProjectorOnDuration"].erase("state_constraint"); }},
+      {"bound as a string",
+       [](Json& j) {
+         j["constraints"]["episodes"]["ProjectorOnDuration"]["lower_bound"] = "30 min";
+       }},
+      {"negative bound",
+       [](Json& j) { j["constraints"]["temporal"]["ProjectorOnWithin60"]["upper_bound"] = -1; }},
+      {"no state_constraint",
+       [](Json& j) {
+         j["constraints"]["episodes"]["ProjectorOnDuration"].erase("state_constraint");
+       }},
       {"unknown key", [](Json& j) { j["reasoning"] = "..."; }},
-      {"bad constraint name", [](Json& j) { j["constraints"]["temporal"]["on within 60"] = j["constraints"]["temporal"]["ProjectorOnWithin60"]; }},
+      {"bad constraint name",
+       [](Json& j) {
+         j["constraints"]["temporal"]["on within 60"] =
+             j["constraints"]["temporal"]["ProjectorOnWithin60"];
+       }},
       {"bad objective", [](Json& j) { j["objective"] = "fastest"; }},
-      {"bad endpoint", [](Json& j) { j["constraints"]["event"]["E"] = {"ProjectorOnDuration.finish", "ShutdownWithin600.event1"}; }},
-      {"one endpoint", [](Json& j) { j["constraints"]["event"]["E"] = {"ProjectorOnDuration.end"}; }},
+      {"bad endpoint",
+       [](Json& j) {
+         j["constraints"]["event"]["E"] = {"ProjectorOnDuration.finish",
+                                           "ShutdownWithin600.event1"};
+       }},
+      {"one endpoint",
+       [](Json& j) { j["constraints"]["event"]["E"] = {"ProjectorOnDuration.end"}; }},
       {"empty condition", [](Json& j) { j["end_state"]["goal_constraint"] = ""; }},
   };
   for (const auto& b : breaks) {

@@ -1,8 +1,9 @@
 // Text for people: valid UTF-8, bounded, key masked.
+#include "translator/text.h"
+
 #include <gtest/gtest.h>
 
 #include "planner/model/json_io.h"
-#include "translator/text.h"
 
 namespace ctb {
 namespace {
@@ -13,7 +14,10 @@ TEST(Text, InvalidUtf8IsReplacedSoJsonCanBeWritten) {
   EXPECT_EQ(fixed, "last read: '\xEF\xBF\xBD'");
   EXPECT_THROW((void)Json(lone_lead).dump(), Json::type_error);
   EXPECT_NO_THROW((void)Json(fixed).dump());
-  EXPECT_EQ(ValidUtf8("\xC2\xBF" "Algo m\xC3\xA1s? \xF0\x9F\x98\x8A"), "\xC2\xBF" "Algo m\xC3\xA1s? \xF0\x9F\x98\x8A");
+  EXPECT_EQ(ValidUtf8("\xC2\xBF"
+                      "Algo m\xC3\xA1s? \xF0\x9F\x98\x8A"),
+            "\xC2\xBF"
+            "Algo m\xC3\xA1s? \xF0\x9F\x98\x8A");
   EXPECT_EQ(ValidUtf8("\xED\xA0\x80"), "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");  // a surrogate
 }
 
