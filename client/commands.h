@@ -32,6 +32,10 @@ Runner AddTranslate(CLI::App& app);
 // locally or through a running server; prints {state_plan, reasoning, trajectory[, session]}.
 Runner AddPlan(CLI::App& app);
 
+// `ctburton schema --domain NAME|PATH`: prints the JSON Schema of the domain's state plans (the
+// one sent with CTB_LLM_RESPONSE_FORMAT=json_schema); 2 for a bad domain.
+Runner AddSchema(CLI::App& app);
+
 // `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
 Runner AddServe(CLI::App& app);
 

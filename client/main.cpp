@@ -7,11 +7,12 @@
 #include <spdlog/spdlog.h>
 
 #include "client/commands.h"
+#include "translator/text.h"
 
 namespace ctb::cli {
 void PrintError(const Error& e) {
-  std::cerr << "error (" << CodeName(e.code) << "): " << e.message << "\n";
-  for (const auto& d : e.details) std::cerr << d.ToString() << "\n";
+  std::cerr << "error (" << CodeName(e.code) << "): " << ValidUtf8(e.message) << "\n";
+  for (const auto& d : e.details) std::cerr << ValidUtf8(d.ToString()) << "\n";
 }
 }  // namespace ctb::cli
 
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddTranslate(app));
   runners.push_back(ctb::cli::AddServe(app));
   runners.push_back(ctb::cli::AddPlan(app));
+  runners.push_back(ctb::cli::AddSchema(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

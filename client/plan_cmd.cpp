@@ -50,6 +50,7 @@ int RunPlan(const PlanCliOptions& o) {
   if (!p) return Fail({ErrorCode::kInvalidInput, "--prompting must be cot or direct", {}});
   to.prompting = *p;
   to.max_repairs = std::get<LlmConfig>(cfg).max_repairs;
+  to.response_format = std::get<LlmConfig>(cfg).response_format;
   auto t = Translate(*domain, o.command, *std::get<std::unique_ptr<LlmClient>>(client), to);
   if (auto* e = std::get_if<Error>(&t)) return Fail(*e);
   const auto& tr = std::get<TranslateResult>(t);
@@ -62,8 +63,9 @@ int RunPlan(const PlanCliOptions& o) {
   auto s = Solve(*domain, *sp, so);
   if (auto* e = std::get_if<Error>(&s)) return Fail(*e);
   AnnotateAnswer(*domain, *sp, so, std::get<Json>(s));
-  std::cout << Json({{"state_plan", tr.state_plan}, {"reasoning", tr.reasoning},
-                     {"trajectory", std::get<Json>(s)}}).dump(2) << "\n";
+  Json out = {{"state_plan", tr.state_plan}, {"reasoning", tr.reasoning}, {"trajectory", std::get<Json>(s)}};
+  if (!tr.warnings.empty()) out["warnings"] = WarningsJson(tr.warnings);
+  std::cout << out.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
   return 0;
 }
 }  // namespace

@@ -38,14 +38,15 @@ int RunTranslate(const TranslateCliOptions& o) {
   TranslateOptions to;
   to.prompting = *prompting;
   to.max_repairs = std::get<LlmConfig>(cfg).max_repairs;
-  to.json_mode = std::get<LlmConfig>(cfg).json_mode;
+  to.response_format = std::get<LlmConfig>(cfg).response_format;
   auto r = Translate(*domain, o.command, *std::get<std::unique_ptr<LlmClient>>(client), to);
   if (auto* e = std::get_if<Error>(&r)) return fail(*e);
   const auto& t = std::get<TranslateResult>(r);
   for (const auto& w : t.warnings) std::cerr << "warning: " << w.ToString() << "\n";
   Json out = {{"state_plan", t.state_plan}, {"reasoning", t.reasoning},
               {"llm_calls", t.llm_calls}, {"repairs", t.repairs}};
-  std::cout << out.dump(2) << "\n";
+  if (!t.warnings.empty()) out["warnings"] = WarningsJson(t.warnings);
+  std::cout << out.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
   return 0;
 }
 }  // namespace

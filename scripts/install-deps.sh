@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package ctburton needs to build and run. Idempotent.
-#   --test   also what the tests need: Chromium and Node.js for the browser test.
+#   --test   also what the tests need: Chromium and Node.js for the browser test, python3-jsonschema
+#            for the schema check.
 # The same list is used by docker/Dockerfile (keep them in step).
 set -euo pipefail
 PACKAGES=(
@@ -11,7 +12,7 @@ PACKAGES=(
   libcurl4-openssl-dev libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
 )
 if [ "${1:-}" = "--test" ]; then
-  PACKAGES+=(chromium)
+  PACKAGES+=(chromium python3-jsonschema)
   command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 fi
 missing=()

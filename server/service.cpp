@@ -20,6 +20,7 @@
 #include "server/log_context.h"
 #include "server/metrics.h"
 #include "translator/pipeline.h"
+#include "translator/text.h"
 
 namespace ctb::server {
 
@@ -153,7 +154,8 @@ class Service {
   // --- responses ---
   static void SendJson(httplib::Response& res, int status, const Json& j) {
     res.status = status;
-    res.set_content(j.dump(), "application/json");
+    // Text from an LLM or an upstream error may hold invalid UTF-8: replaced, never thrown.
+    res.set_content(j.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
   }
   static void SendError(httplib::Response& res, const Error& e) {
     Json err = {{"code", CodeName(e.code)}, {"message", e.message}};
@@ -349,7 +351,7 @@ class Service {
     TranslateOptions to;
     to.prompts_dir = cfg_.prompts_dir;
     to.max_repairs = cfg_.llm.max_repairs;
-    to.json_mode = cfg_.llm.json_mode;
+    to.response_format = cfg_.llm.response_format;
     if (body.contains("prompting")) {
       auto p = body["prompting"].is_string() ? ParsePrompting(body["prompting"]) : std::nullopt;
       if (!p) return Bad("\"prompting\" must be cot or direct", "/prompting");
@@ -366,6 +368,9 @@ class Service {
     if (auto* e = std::get_if<Error>(&r)) {
       if (e->code == ErrorCode::kUnavailable && cfg_.llm.base_url.empty())
         e->message += " (no LLM endpoint configured: set CTB_LLM_BASE_URL, CTB_LLM_API_KEY and CTB_LLM_MODEL)";
+      // The key never leaves in a response, whatever the upstream put into its message.
+      e->message = MaskSecret(e->message, cfg_.llm.api_key);
+      for (auto& d : e->details) d.message = MaskSecret(d.message, cfg_.llm.api_key);
       return *e;
     }
     metrics_.LlmCall(std::get<TranslateResult>(r).llm_calls, std::get<TranslateResult>(r).repairs);
@@ -381,7 +386,9 @@ class Service {
     auto t = DoTranslate(*body, nullptr);
     if (auto* e = std::get_if<Error>(&t)) return SendError(res, *e);
     const auto& r = std::get<Translated>(t).result;
-    SendJson(res, 200, {{"state_plan", r.state_plan}, {"reasoning", r.reasoning}});
+    Json out = {{"state_plan", r.state_plan}, {"reasoning", r.reasoning}};
+    if (!r.warnings.empty()) out["warnings"] = WarningsJson(r.warnings);
+    SendJson(res, 200, out);
   }
 
   void HandlePlan(const httplib::Request& req, httplib::Response& res) {
@@ -431,8 +438,10 @@ class Service {
       s.state_plan = tr.result.state_plan;
       s.last_used = Clock::now();
     }
-    SendJson(res, 200, {{"state_plan", tr.result.state_plan}, {"reasoning", tr.result.reasoning},
-                        {"trajectory", std::get<Json>(solved)}, {"session", id}});
+    Json out = {{"state_plan", tr.result.state_plan}, {"reasoning", tr.result.reasoning},
+                {"trajectory", std::get<Json>(solved)}, {"session", id}};
+    if (!tr.result.warnings.empty()) out["warnings"] = WarningsJson(tr.result.warnings);
+    SendJson(res, 200, out);
   }
 
   void ExpireSessions() {

@@ -1,5 +1,6 @@
 #include <curl/curl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <thread>
 
 #include "translator/llm.h"
+#include "translator/text.h"
 
 namespace ctb {
 
@@ -20,10 +22,20 @@ void GlobalInit() {
   std::call_once(once, [] { curl_global_init(CURL_GLOBAL_DEFAULT); });
 }
 
+// The answer body, bounded: past `limit` bytes the transfer stops and `too_large` is set.
+struct Sink {
+  std::string data;
+  std::size_t limit = 0;
+  bool too_large = false;
+};
+
 size_t WriteBody(char* ptr, size_t size, size_t n, void* user) {
-  auto* s = static_cast<std::string*>(user);
-  if (s->size() + size * n > 16 * 1024 * 1024) return 0;  // refuse absurd answers
-  s->append(ptr, size * n);
+  auto* s = static_cast<Sink*>(user);
+  if (s->data.size() + size * n > s->limit) {
+    s->too_large = true;
+    return 0;  // refuse absurd answers
+  }
+  s->data.append(ptr, size * n);
   return size * n;
 }
 
@@ -60,36 +72,74 @@ class HttpClient : public LlmClient {
   int attempts() const override { return attempts_; }
 
   std::variant<ChatResponse, Error> Complete(const ChatRequest& req) override {
-    const std::string body = ChatBody(cfg_.model, req).dump();
+    const auto deadline = Clock::now() + std::chrono::milliseconds(cfg_.timeout_ms);
+    auto r = CompleteOnce(req, deadline);
+    // finish_reason "length": the JSON was cut off; once more with twice the output limit.
+    if (auto* ok = std::get_if<ChatResponse>(&r); ok && ok->finish_reason == "length") {
+      int used = req.max_tokens > 0 ? req.max_tokens : cfg_.max_tokens;
+      ChatRequest bigger = req;
+      bigger.max_tokens = used > 0 ? std::min(used * 2, 1000000) : 8192;
+      r = CompleteOnce(bigger, deadline);
+      if (auto* again = std::get_if<ChatResponse>(&r); again && again->finish_reason == "length")
+        return Error{ErrorCode::kUpstreamFailed,
+                     "LLM answer was cut off (finish_reason \"length\") even with max_tokens " +
+                         std::to_string(bigger.max_tokens) + ": raise CTB_LLM_MAX_TOKENS", {}};
+    }
+    if (auto* e = std::get_if<Error>(&r)) {
+      e->message = MaskSecret(ValidUtf8(e->message), cfg_.api_key);
+      for (auto& d : e->details) d.message = MaskSecret(ValidUtf8(d.message), cfg_.api_key);
+    }
+    return r;
+  }
+
+ private:
+  // One request with its retries, every attempt and wait before `deadline`.
+  std::variant<ChatResponse, Error> CompleteOnce(const ChatRequest& in, Clock::time_point deadline) {
+    ChatRequest req = in;
+    if (req.max_tokens <= 0) req.max_tokens = cfg_.max_tokens;
+    const std::string body = ChatBody(cfg_.model, req).dump(-1, ' ', false, Json::error_handler_t::replace);
     const std::string url = Url();
     std::mt19937 rng(std::random_device{}());
+    auto timed_out = [&] {
+      return Error{ErrorCode::kUpstreamTimeout,
+                   "LLM endpoint did not answer within " + std::to_string(cfg_.timeout_ms) +
+                       " ms (CTB_LLM_TIMEOUT_MS, retries included)", {}};
+    };
+    auto remaining_ms = [&] {
+      return std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    };
     Error last{ErrorCode::kUpstreamFailed, "no attempt made", {}};
     for (int attempt = 0; attempt <= cfg_.max_retries; ++attempt) {
+      long budget = remaining_ms();
+      if (budget <= 0) return timed_out();
       ++attempts_;
-      std::string answer, retry_after;
+      Sink answer;
+      answer.limit = static_cast<std::size_t>(cfg_.max_answer_bytes);
+      std::string retry_after;
       long status = 0;
-      CURLcode rc = Post(url, body, answer, retry_after, status);
+      CURLcode rc = Post(url, body, answer, retry_after, status, budget);
       long wait_ms = -1;
+      if (answer.too_large)
+        return Error{ErrorCode::kUpstreamFailed,
+                     "the LLM endpoint's answer is larger than the limit of " +
+                         std::to_string(cfg_.max_answer_bytes) + " bytes (CTB_LLM_MAX_ANSWER_BYTES); "
+                         "not retried", {}};
       if (rc != CURLE_OK) {
-        if (rc == CURLE_OPERATION_TIMEDOUT)
-          last = {ErrorCode::kUpstreamTimeout,
-                  "LLM endpoint did not answer within " + std::to_string(cfg_.timeout_ms) + " ms", {}};
-        else
-          last = {ErrorCode::kUpstreamFailed,
-                  std::string("cannot reach the LLM endpoint: ") + curl_easy_strerror(rc), {}};
-        if (rc == CURLE_OPERATION_TIMEDOUT) return last;  // the time budget is spent
+        if (rc == CURLE_OPERATION_TIMEDOUT) return timed_out();  // the time budget is spent
+        last = {ErrorCode::kUpstreamFailed,
+                std::string("cannot reach the LLM endpoint: ") + curl_easy_strerror(rc), {}};
       } else if (status == 200) {
-        return ParseAnswer(answer);
+        return ParseAnswer(answer.data);
       } else {
         last = {ErrorCode::kUpstreamFailed, "LLM endpoint answered HTTP " + std::to_string(status) +
-                                                UpstreamMessage(answer), {}};
+                                                UpstreamMessage(answer.data), {}};
         if (status == 401 || status == 403) {
           last.message = "LLM endpoint refused the request (HTTP " + std::to_string(status) +
                          "): check CTB_LLM_API_KEY";
           return last;
         }
         bool retryable = status == 408 || status == 409 || status == 429 || status >= 500;
-        if (status == 429 && answer.find("insufficient_quota") != std::string::npos) retryable = false;
+        if (status == 429 && answer.data.find("insufficient_quota") != std::string::npos) retryable = false;
         if (!retryable) return last;
         wait_ms = RetryAfterMs(retry_after);
         if (wait_ms > cfg_.max_retry_after_ms) return last;  // asked to wait too long
@@ -99,20 +149,23 @@ class HttpClient : public LlmClient {
         long cap = cfg_.backoff_base_ms << attempt;
         wait_ms = std::uniform_int_distribution<long>(cap / 2, cap)(rng);
       }
+      if (wait_ms >= remaining_ms()) {
+        last.message += " (no time left for another attempt within CTB_LLM_TIMEOUT_MS)";
+        return last;
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
     }
     return last;
   }
 
- private:
   std::string Url() const {
     std::string u = cfg_.base_url;
     while (!u.empty() && u.back() == '/') u.pop_back();
     return u + "/chat/completions";
   }
 
-  CURLcode Post(const std::string& url, const std::string& body, std::string& answer,
-                std::string& retry_after, long& status) {
+  CURLcode Post(const std::string& url, const std::string& body, Sink& answer,
+                std::string& retry_after, long& status, long budget_ms) {
     CURL* curl = curl_easy_init();
     if (!curl) return CURLE_FAILED_INIT;
     curl_slist* headers = nullptr;
@@ -127,8 +180,8 @@ class HttpClient : public LlmClient {
     curl_easy_setopt(curl, CURLOPT_POSTFIELDS, body.c_str());
     curl_easy_setopt(curl, CURLOPT_POSTFIELDSIZE, static_cast<long>(body.size()));
     curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);
-    curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, cfg_.timeout_ms);
-    curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, cfg_.connect_timeout_ms);
+    curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, budget_ms);
+    curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, std::min(cfg_.connect_timeout_ms, budget_ms));
     curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, WriteBody);
     curl_easy_setopt(curl, CURLOPT_WRITEDATA, &answer);
     curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, ReadHeader);
@@ -147,16 +200,16 @@ class HttpClient : public LlmClient {
     if (j.is_object() && j.contains("error") && j["error"].is_object() &&
         j["error"].contains("message") && j["error"]["message"].is_string()) {
       std::string m = j["error"]["message"].get<std::string>();
-      if (m.size() > 200) m = m.substr(0, 200) + "...";
-      return ": " + m;
+      return ": " + Cut(m, 200);
     }
     return "";
   }
 
   static std::variant<ChatResponse, Error> ParseAnswer(const std::string& answer) {
     Json j = Json::parse(answer, nullptr, false);
-    auto bad = [](const std::string& why) {
-      return Error{ErrorCode::kUpstreamFailed, "LLM endpoint sent an unusable answer: " + why, {}};
+    auto bad = [&](const std::string& why) {
+      return Error{ErrorCode::kUpstreamFailed, "LLM endpoint sent an unusable answer: " + why +
+                                                   " (it began: \"" + Cut(answer, 200) + "\")", {}};
     };
     if (!j.is_object() || !j.contains("choices") || !j["choices"].is_array() || j["choices"].empty())
       return bad("no choices");
@@ -165,13 +218,32 @@ class HttpClient : public LlmClient {
       return bad("no message");
     const Json& m = c["message"];
     ChatResponse r;
-    if (m.contains("content") && m["content"].is_string()) r.content = m["content"].get<std::string>();
+    if (m.contains("content") && m["content"].is_string()) {
+      r.content = m["content"].get<std::string>();
+    } else if (m.contains("content") && m["content"].is_array()) {  // content parts
+      for (const auto& part : m["content"])
+        if (part.is_object() && part.contains("text") && part["text"].is_string())
+          r.content += part["text"].get<std::string>();
+        else if (part.is_string())
+          r.content += part.get<std::string>();
+      r.notes.push_back("the answer's content was an array of parts; their text was joined");
+    }
+    if (m.contains("refusal") && m["refusal"].is_string()) r.refusal = m["refusal"].get<std::string>();
+    if (r.content.find_first_not_of(" \t\r\n") == std::string::npos && m.contains("tool_calls") &&
+        m["tool_calls"].is_array() && !m["tool_calls"].empty()) {
+      const Json& call = m["tool_calls"][0];
+      if (call.is_object() && call.contains("function") && call["function"].is_object()) {
+        const Json& f = call["function"];
+        if (f.contains("arguments") && f["arguments"].is_string()) r.content = f["arguments"].get<std::string>();
+        else if (f.contains("arguments") && f["arguments"].is_object()) r.content = f["arguments"].dump();
+        r.notes.push_back("the answer came as a tool call" +
+                          (f.contains("name") && f["name"].is_string()
+                               ? " ('" + Cut(f["name"].get<std::string>(), 60) + "')" : std::string()) +
+                          "; its arguments were read");
+      }
+    }
     if (c.contains("finish_reason") && c["finish_reason"].is_string())
       r.finish_reason = c["finish_reason"].get<std::string>();
-    if (r.finish_reason == "length")
-      return Error{ErrorCode::kUpstreamFailed,
-                   "LLM answer was cut off (finish_reason \"length\"): raise the model's output "
-                   "limit", {}};
     return r;
   }
 

@@ -6,19 +6,39 @@
 #include <sstream>
 
 #include "translator/llm.h"
+#include "translator/text.h"
 
 namespace ctb {
 
+std::optional<ResponseFormat> ParseResponseFormat(const std::string& s) {
+  if (s == "none") return ResponseFormat::kNone;
+  if (s == "json_object") return ResponseFormat::kJsonObject;
+  if (s == "json_schema") return ResponseFormat::kJsonSchema;
+  return std::nullopt;
+}
+
+const char* ResponseFormatName(ResponseFormat f) {
+  switch (f) {
+    case ResponseFormat::kNone: return "none";
+    case ResponseFormat::kJsonObject: return "json_object";
+    case ResponseFormat::kJsonSchema: return "json_schema";
+  }
+  return "none";
+}
+
 Json ChatBody(const std::string& model, const ChatRequest& req) {
   Json messages = Json::array();
-  for (const auto& m : req.messages) messages.push_back({{"role", m.role}, {"content", m.content}});
+  for (const auto& m : req.messages)
+    messages.push_back({{"role", m.role}, {"content", ValidUtf8(m.content)}});
   Json body = {{"model", model}, {"messages", messages}, {"temperature", 0}};
-  if (req.json_mode) body["response_format"] = {{"type", "json_object"}};
+  if (!req.response_format.is_null()) body["response_format"] = req.response_format;
+  else if (req.json_mode) body["response_format"] = {{"type", "json_object"}};
+  if (req.max_tokens > 0) body["max_tokens"] = req.max_tokens;
   return body;
 }
 
 std::string RequestKey(const std::string& model, const Json& body) {
-  std::string text = model + "\n" + body.dump();
+  std::string text = model + "\n" + body.dump(-1, ' ', false, Json::error_handler_t::replace);
   std::uint64_t h = 1469598103934665603ULL;
   for (unsigned char c : text) {
     h ^= c;
@@ -53,7 +73,8 @@ class RecordingClient : public LlmClient {
                   {"request", body},
                   {"response", {{"content", ok->content}, {"finish_reason", ok->finish_reason}}}};
       std::lock_guard<std::mutex> lock(mu_);
-      std::ofstream(dir_ + "/" + RequestKey(model(), body) + ".json") << rec.dump(1) << "\n";
+      std::ofstream(dir_ + "/" + RequestKey(model(), body) + ".json")
+          << rec.dump(1, ' ', false, Json::error_handler_t::replace) << "\n";
     }
     return r;
   }
@@ -96,7 +117,12 @@ std::variant<LlmConfig, Error> LlmConfig::FromEnv() {
   if (auto m = Env("CTB_LLM_MODEL"); !m.empty()) c.model = m;
   c.record_dir = Env("CTB_LLM_RECORD");
   c.replay_dir = Env("CTB_LLM_REPLAY");
-  c.json_mode = Env("CTB_LLM_JSON_MODE") == "1";
+  if (auto f = Env("CTB_LLM_RESPONSE_FORMAT"); !f.empty()) {
+    if (auto rf = ParseResponseFormat(f)) c.response_format = *rf;
+    else d.Error("$CTB_LLM_RESPONSE_FORMAT", "must be json_schema, json_object or none");
+  } else if (Env("CTB_LLM_JSON_MODE") == "1") {
+    c.response_format = ResponseFormat::kJsonObject;  // the older setting, kept as an alias
+  }
   auto number = [&](const char* name, long lo, long hi, auto& out) {
     std::string v = Env(name);
     if (v.empty()) return;
@@ -110,17 +136,15 @@ std::variant<LlmConfig, Error> LlmConfig::FromEnv() {
   };
   number("CTB_LLM_TIMEOUT_MS", 100, 600000, c.timeout_ms);
   number("CTB_LLM_MAX_REPAIRS", 0, 10, c.max_repairs);
+  number("CTB_LLM_MAX_TOKENS", 1, 1000000, c.max_tokens);
+  number("CTB_LLM_MAX_ANSWER_BYTES", 1024, 256L * 1024 * 1024, c.max_answer_bytes);
   if (!c.base_url.empty() && c.base_url.rfind("http://", 0) != 0 && c.base_url.rfind("https://", 0) != 0)
     d.Error("$CTB_LLM_BASE_URL", "must start with http:// or https://");
   if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid LLM configuration", d);
   return c;
 }
 
-std::string LlmConfig::MaskedKey() const {
-  if (api_key.empty()) return "(none)";
-  if (api_key.size() <= 8) return "****";
-  return api_key.substr(0, 3) + "..." + api_key.substr(api_key.size() - 4);
-}
+std::string LlmConfig::MaskedKey() const { return MaskedSecret(api_key); }
 
 std::unique_ptr<LlmClient> MakeRecordingClient(std::unique_ptr<LlmClient> inner, const std::string& dir) {
   return std::make_unique<RecordingClient>(std::move(inner), dir);
@@ -137,13 +161,14 @@ std::variant<std::unique_ptr<LlmClient>, Error> MakeReplayClient(const std::stri
     Diagnostics d;
     auto j = ReadJsonFile(f.path().string(), d);
     if (!j || !j->is_object() || !j->contains("request") || !j->contains("response") ||
-        !(*j)["response"].contains("content"))
+        !(*j)["response"].contains("content") || !(*j)["response"]["content"].is_string())
       return Error{ErrorCode::kInvalidInput, "recording '" + f.path().string() + "' is malformed", {}};
     std::string m = j->value("model", model);
     if (m != model) continue;
-    answers[RequestKey(m, (*j)["request"])] =
-        ChatResponse{(*j)["response"]["content"].get<std::string>(),
-                     (*j)["response"].value("finish_reason", "stop")};
+    ChatResponse r;
+    r.content = (*j)["response"]["content"].get<std::string>();
+    r.finish_reason = (*j)["response"].value("finish_reason", "stop");
+    answers[RequestKey(m, (*j)["request"])] = std::move(r);
   }
   return std::unique_ptr<LlmClient>(std::make_unique<ReplayClient>(std::move(answers), model, dir));
 }

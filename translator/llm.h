@@ -19,14 +19,23 @@ struct ChatMessage {
   std::string content;
 };
 
+// How the endpoint is asked to shape its answer (CTB_LLM_RESPONSE_FORMAT).
+enum class ResponseFormat { kNone, kJsonObject, kJsonSchema };
+std::optional<ResponseFormat> ParseResponseFormat(const std::string& s);
+const char* ResponseFormatName(ResponseFormat f);
+
 struct ChatRequest {
   std::vector<ChatMessage> messages;
-  bool json_mode = false;  // ask for JSON output (response_format); off by default
+  bool json_mode = false;  // response_format json_object (when response_format is null)
+  Json response_format;    // sent as is when not null (e.g. a json_schema member)
+  int max_tokens = 0;      // 0: the client's CTB_LLM_MAX_TOKENS, or the server's default
 };
 
 struct ChatResponse {
-  std::string content;
+  std::string content;        // the text, or the arguments of the first tool call
   std::string finish_reason;
+  std::string refusal;        // the model's refusal (OpenAI's message.refusal), if any
+  std::vector<std::string> notes;  // how the content was read (content parts, tool call)
 };
 
 // The request body sent to /chat/completions (also the record/replay key, canonical JSON).
@@ -48,12 +57,15 @@ struct LlmConfig {
   std::string base_url;   // CTB_LLM_BASE_URL, e.g. https://api.openai.com/v1
   std::string api_key;    // CTB_LLM_API_KEY (sent as a bearer token, never logged)
   std::string model = "gpt-4o";  // CTB_LLM_MODEL
-  long timeout_ms = 60000;        // CTB_LLM_TIMEOUT_MS: total per request
+  long timeout_ms = 60000;        // CTB_LLM_TIMEOUT_MS: one deadline per request, retries included
   long connect_timeout_ms = 5000;
   int max_retries = 3;
   long max_retry_after_ms = 30000;
   long backoff_base_ms = 250;
-  bool json_mode = false;         // CTB_LLM_JSON_MODE=1
+  ResponseFormat response_format = ResponseFormat::kNone;  // CTB_LLM_RESPONSE_FORMAT
+                                                          // (CTB_LLM_JSON_MODE=1: json_object)
+  int max_tokens = 0;             // CTB_LLM_MAX_TOKENS (0: not sent)
+  long max_answer_bytes = 16L * 1024 * 1024;  // CTB_LLM_MAX_ANSWER_BYTES
   int max_repairs = 2;            // CTB_LLM_MAX_REPAIRS
   std::string record_dir;         // CTB_LLM_RECORD
   std::string replay_dir;         // CTB_LLM_REPLAY
@@ -65,7 +77,11 @@ struct LlmConfig {
 
 // The HTTP client (libcurl). Retries 408/409/429 (not insufficient_quota) and 5xx and
 // connection errors with exponential backoff and jitter, honouring Retry-After up to a cap;
-// never retries 401/403; finish_reason "length" is an error.
+// never retries 401/403. One deadline (timeout_ms) covers every attempt and wait of a call. An
+// answer over max_answer_bytes is an error of its own, not retried. finish_reason "length" is
+// retried once with twice the output limit, then an error. Content given as an array of parts
+// is joined; with no content, the first tool call's arguments are read. Every error message is
+// valid UTF-8 and has the API key masked.
 std::unique_ptr<LlmClient> MakeHttpClient(const LlmConfig& cfg);
 
 // Wraps a client and stores each exchange under dir as <key>.json: the model, the request body

@@ -6,6 +6,10 @@
 #include <sstream>
 
 #include "planner/model/state_plan.h"
+#include "translator/guards.h"
+#include "translator/normalize_answer.h"
+#include "translator/schema.h"
+#include "translator/text.h"
 
 #ifndef CTB_BUILTIN_PROMPTS_DIR
 #define CTB_BUILTIN_PROMPTS_DIR "prompts"
@@ -84,56 +88,93 @@ std::string DescribeDomain(const Domain& d) {
   return out;
 }
 
-std::optional<std::string> FindJson(const std::string& answer) {
-  // A fenced block that holds an object.
-  std::size_t pos = 0;
-  while ((pos = answer.find("```", pos)) != std::string::npos) {
-    std::size_t start = answer.find('\n', pos);
-    if (start == std::string::npos) break;
-    std::size_t end = answer.find("```", start);
-    if (end == std::string::npos) break;
-    std::string block = answer.substr(start + 1, end - start - 1);
-    auto brace = block.find('{');
-    if (brace != std::string::npos && block.find_first_not_of(" \t\r\n") == brace) return block;
-    pos = end + 3;
+Json WarningsJson(const std::vector<Diagnostic>& warnings) {
+  Json out = Json::array();
+  for (const auto& w : warnings) {
+    Json x = {{"message", ValidUtf8(w.message)}};
+    if (!w.pointer.empty()) x["path"] = ValidUtf8(w.pointer);
+    out.push_back(std::move(x));
   }
-  auto first = answer.find('{');
-  auto last = answer.rfind('}');
-  if (first == std::string::npos || last == std::string::npos || last < first) {
-    if (first != std::string::npos) return answer.substr(first);  // truncated: let the parser say
-    return std::nullopt;
-  }
-  return answer.substr(first, last - first + 1);
+  return out;
 }
 
 namespace {
 
+// An answer quoted back in the conversation is cut to this many bytes (head and tail).
+constexpr std::size_t kMaxQuotedAnswer = 8000;
+// At most this many problems go into one repair request.
+constexpr std::size_t kMaxListedProblems = 40;
+
 struct Check {
-  std::optional<Json> plan;
-  std::vector<Diagnostic> errors;
-  std::vector<Diagnostic> warnings;
+  std::optional<Json> json;          // the normalised answer, when JSON could be read
+  std::optional<Json> plan;          // the same, when nothing blocks it
+  std::vector<Diagnostic> errors;    // blocking: syntax, checker, guards of meaning
+  std::vector<Diagnostic> warnings;  // doubts asked about in a repair, reported if they stay
+  std::vector<Diagnostic> notes;     // normalisations applied
 };
 
-Check CheckAnswer(const std::string& answer, const Domain& d) {
+// A checker's message quotes the expression it is about (cut to 200 characters).
+Diagnostic Quoted(const Diagnostic& d, const Json& plan) {
+  Diagnostic out = d;
+  out.message = ValidUtf8(out.message);
+  if (!d.offset || d.pointer.empty()) return out;
+  try {
+    Json::json_pointer ptr(d.pointer);
+    if (plan.contains(ptr) && plan.at(ptr).is_string())
+      out.message += " (in \"" + Cut(plan.at(ptr).get<std::string>(), 200) + "\")";
+  } catch (const std::exception&) {
+  }
+  return out;
+}
+
+Check CheckAnswer(const ChatResponse& r, const Domain& d, const std::string& command) {
   Check c;
-  auto text = FindJson(answer);
-  if (!text) {
-    c.errors.push_back({"", std::nullopt, "the answer holds no JSON object"});
+  for (const auto& n : r.notes) c.notes.push_back({"", std::nullopt, n});
+  const bool blank = r.content.find_first_not_of(" \t\r\n") == std::string::npos;
+  if (blank) {
+    if (!r.refusal.empty())
+      c.errors.push_back({"", std::nullopt, "the model refused: \"" + Cut(r.refusal, 200) + "\""});
+    else
+      c.errors.push_back({"", std::nullopt, "the answer was empty" +
+                                                (r.finish_reason.empty() || r.finish_reason == "stop"
+                                                     ? std::string()
+                                                     : " (finish_reason \"" + Cut(r.finish_reason, 40) + "\")")});
     return c;
   }
+  Extraction x = ExtractJson(r.content);
+  c.notes.insert(c.notes.end(), x.notes.begin(), x.notes.end());
+  if (!x.json) {
+    c.errors = x.errors;
+    if (!r.refusal.empty())
+      c.errors.push_back({"", std::nullopt, "the model refused: \"" + Cut(r.refusal, 200) + "\""});
+    return c;
+  }
+  Json j = NormalizeAnswer(std::move(*x.json), d, c.notes);
   Diagnostics diags;
-  auto j = ParseJsonStrict(*text, diags);
-  if (j) LoadStatePlan(*j, d, diags);
-  c.errors = diags.errors();
-  c.warnings = diags.warnings();
-  if (c.errors.empty()) c.plan = j;
+  auto sp = LoadStatePlan(j, d, diags);
+  for (const auto& e : diags.errors()) c.errors.push_back(Quoted(e, j));
+  for (const auto& w : diags.warnings()) c.warnings.push_back(Quoted(w, j));
+  if (sp) {
+    MeaningFindings f = CheckMeaning(j, *sp, d, command);
+    c.errors.insert(c.errors.end(), f.blocking.begin(), f.blocking.end());
+    c.warnings.insert(c.warnings.end(), f.doubtful.begin(), f.doubtful.end());
+  } else {
+    for (auto& w : DefaultedStateConstraints(j)) c.warnings.push_back(std::move(w));
+  }
+  c.json = j;
+  if (c.errors.empty()) c.plan = std::move(j);
   return c;
 }
 
 std::string ListProblems(const Check& c) {
   std::string out;
-  for (const auto& e : c.errors) out += e.ToString() + "\n";
-  for (const auto& w : c.warnings) out += "warning: " + w.ToString() + "\n";
+  std::size_t listed = 0, total = c.errors.size() + c.warnings.size();
+  for (const auto& e : c.errors)
+    if (listed++ < kMaxListedProblems) out += Cut(e.ToString(), 400) + "\n";
+  for (const auto& w : c.warnings)
+    if (listed++ < kMaxListedProblems) out += "warning: " + Cut(w.ToString(), 400) + "\n";
+  if (total > kMaxListedProblems)
+    out += "(and " + std::to_string(total - kMaxListedProblems) + " more)\n";
   return out;
 }
 
@@ -170,20 +211,20 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   std::vector<ChatMessage> msgs = o.history;
   if (msgs.empty())
     msgs.push_back({"system", Fill(*system, {{"domain", DescribeDomain(d)}, {"examples", examples}})});
-  ChatRequest req;
-  req.json_mode = false;
-  auto ask = [&](bool want_json) -> std::variant<std::string, Error> {
+  const Json json_format = ResponseFormatMember(o.response_format, d);
+  auto ask = [&](bool want_json) -> std::variant<ChatResponse, Error> {
+    ChatRequest req;
     req.messages = msgs;
-    req.json_mode = want_json && o.json_mode;
+    if (want_json) req.response_format = json_format;
     ++result.llm_calls;
     auto r = llm.Complete(req);
     if (auto* e = std::get_if<Error>(&r)) return *e;
-    std::string content = std::get<ChatResponse>(r).content;
-    msgs.push_back({"assistant", content});
-    return content;
+    // The answer is quoted back once, bounded: a huge answer does not grow every later request.
+    msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
+    return r;
   };
 
-  std::variant<std::string, Error> answer;
+  std::variant<ChatResponse, Error> answer;
   if (o.previous_state_plan) {
     msgs.push_back({"user", Fill(*followup, {{"state_plan", o.previous_state_plan->dump(2)},
                                              {"command", command}})});
@@ -192,7 +233,10 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
     msgs.push_back({"user", Fill(*extract, {{"command", command}})});
     auto reasoning = ask(false);
     if (auto* e = std::get_if<Error>(&reasoning)) return *e;
-    result.reasoning = std::get<std::string>(reasoning);
+    const ChatResponse& rr = std::get<ChatResponse>(reasoning);
+    if (rr.content.find_first_not_of(" \t\r\n") == std::string::npos && !rr.refusal.empty())
+      return Error{ErrorCode::kUnprocessable, "the model refused: \"" + Cut(rr.refusal, 200) + "\"", {}};
+    result.reasoning = rr.content;
     msgs.push_back({"user", *map});
     answer = ask(true);
   } else {
@@ -200,16 +244,41 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
     answer = ask(true);
   }
   if (auto* e = std::get_if<Error>(&answer)) return *e;
-  Check check = CheckAnswer(std::get<std::string>(answer), d);
+  Check check = CheckAnswer(std::get<ChatResponse>(answer), d, command);
+  std::optional<Json> first = check.json;  // the first answer read as JSON
   while ((!check.errors.empty() || !check.warnings.empty()) && result.repairs < o.max_repairs) {
     ++result.repairs;
-    msgs.push_back({"user", Fill(*repair, {{"errors", ListProblems(check)},
-                                           {"answer", std::get<std::string>(answer)}})});
+    msgs.push_back({"user", Fill(*repair, {{"errors", ListProblems(check)}})});
     answer = ask(true);
-    if (auto* e = std::get_if<Error>(&answer)) return *e;
-    Check next = CheckAnswer(std::get<std::string>(answer), d);
-    // A repair that breaks a usable plan does not replace it.
-    if (check.errors.empty() && !next.errors.empty()) break;
+    if (auto* e = std::get_if<Error>(&answer)) {
+      if (!check.plan) return *e;
+      check.notes.push_back({"", std::nullopt, "a repair request failed (" + Cut(e->message, 200) +
+                                                   "); the answer before it was kept"});
+      break;
+    }
+    Check next = CheckAnswer(std::get<ChatResponse>(answer), d, command);
+    // A repair that drops constraints or goal parts is not taken silently: after a usable answer
+    // it is not taken at all; otherwise (compared with the first answer read) it is asked about
+    // again and reported if it stays.
+    bool goal_flagged = false;  // the repair was asked to change the goal
+    for (const auto* list : {&check.errors, &check.warnings})
+      for (const auto& p : *list) goal_flagged |= p.pointer.rfind("/end_state", 0) == 0;
+    bool blocked = false;
+    if (check.plan && next.json)
+      for (auto& dropped : Dropped(*check.json, *next.json, goal_flagged)) {
+        next.errors.push_back(std::move(dropped));
+        blocked = true;
+      }
+    if (!blocked && first && next.json)
+      for (auto& dropped : Dropped(*first, *next.json, goal_flagged))
+        next.warnings.push_back(std::move(dropped));
+    if (!first && next.json) first = next.json;
+    if (check.plan && !next.errors.empty()) {
+      std::string why = next.errors.front().ToString();
+      check.notes.push_back({"", std::nullopt, "a repaired answer was not taken (" + Cut(why, 300) +
+                                                   "); the earlier, usable answer was kept"});
+      break;
+    }
     check = std::move(next);
   }
   if (!check.errors.empty()) {
@@ -220,7 +289,8 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
     return e;
   }
   result.state_plan = *check.plan;
-  result.warnings = check.warnings;
+  result.warnings = check.notes;
+  result.warnings.insert(result.warnings.end(), check.warnings.begin(), check.warnings.end());
   result.conversation = msgs;
   return result;
 }

@@ -2,9 +2,10 @@
 //
 // Chain of thought (default): the LLM first extracts initial state, end state, episodes and
 // temporal constraints as text, then maps that text to the JSON. Direct: the JSON at once. The
-// answer's JSON is found (code fences, prose around it), parsed strictly and checked against the
-// domain; errors (and fixed-index warnings) go back in a repair request quoting them verbatim,
-// at most max_repairs times; then kUnprocessable with every remaining error.
+// answer's JSON is found and normalised (extract.h, normalize_answer.h: each change a warning),
+// checked against the domain and by the meaning guards (guards.h); errors and doubts go back in
+// a repair request quoting them verbatim, at most max_repairs times; then kUnprocessable with
+// every remaining error. A repair that drops what a usable answer had is not taken.
 #pragma once
 
 #include <optional>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "planner/model/domain.h"
+#include "translator/extract.h"
 #include "translator/llm.h"
 
 namespace ctb {
@@ -23,7 +25,7 @@ std::optional<Prompting> ParsePrompting(const std::string& s);
 struct TranslateOptions {
   Prompting prompting = Prompting::kCot;
   int max_repairs = 2;
-  bool json_mode = false;
+  ResponseFormat response_format = ResponseFormat::kNone;  // for the requests that want JSON
   std::string prompts_dir;  // empty: DefaultPromptsDir()
   // A follow-up in a dialogue: the previous exchange and the state plan to edit.
   std::vector<ChatMessage> history;
@@ -35,8 +37,8 @@ struct TranslateResult {
   std::string reasoning;
   int llm_calls = 0;
   int repairs = 0;
-  std::vector<Diagnostic> warnings;
-  std::vector<ChatMessage> conversation;  // for follow-ups
+  std::vector<Diagnostic> warnings;  // normalisations applied, doubts left (contract section 9)
+  std::vector<ChatMessage> conversation;  // for follow-ups (long answers as bounded excerpts)
 };
 
 std::string DefaultPromptsDir();
@@ -44,8 +46,8 @@ std::string DefaultPromptsDir();
 // The compact description of a domain given to the LLM, generated from its JSON.
 std::string DescribeDomain(const Domain& d);
 
-// The JSON object in an answer: a ```json fence, else the outermost {...}; nullopt when none.
-std::optional<std::string> FindJson(const std::string& answer);
+// The warnings of a result as the contract's JSON: [{"path"?, "message"}].
+Json WarningsJson(const std::vector<Diagnostic>& warnings);
 
 std::variant<TranslateResult, Error> Translate(const Domain& d, const std::string& command,
                                                LlmClient& llm, const TranslateOptions& o);

@@ -366,6 +366,28 @@ TEST(Service, SessionFollowUpEditsThePreviousStatePlan) {
   EXPECT_EQ(unknown->status, 404);
 }
 
+TEST(Service, TheApiKeyNeverLeavesInA502AndWarningsAreReturned) {
+  MockLlmServer m;
+  const std::string key = "sk-test-secret-key-1234";
+  m.Then(MockReply::Status(400, "Incorrect API key provided: " + key));
+  Json plan = Example("presentation/test1_cot.json");
+  m.Then(MockReply::Chat("<think>draft</think>\n" + plan.dump()));
+  Server s({{"CTB_LLM_BASE_URL", m.BaseUrl()}, {"CTB_LLM_API_KEY", key}});
+  auto c = s.Client();
+  Json b = {{"domain", "presentation"}, {"command", kTp1}, {"prompting", "direct"}};
+  auto bad = c.Post("/translate", b.dump(), "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 502);
+  EXPECT_EQ(bad->body.find(key), std::string::npos) << bad->body;
+  EXPECT_NE(bad->body.find("sk-...1234"), std::string::npos) << bad->body;
+  auto ok = c.Post("/translate", b.dump(), "application/json");
+  ASSERT_TRUE(ok);
+  ASSERT_EQ(ok->status, 200) << ok->body;
+  Json w = Json::parse(ok->body)["warnings"];
+  ASSERT_EQ(w.size(), 1u) << ok->body;
+  EXPECT_NE(w[0]["message"].get<std::string>().find("<think>"), std::string::npos);
+}
+
 TEST(Service, LlmFailuresMapToTheirStatuses) {
   MockLlmServer m;
   m.Then(MockReply::Status(401, "bad key"));

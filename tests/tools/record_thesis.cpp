@@ -15,7 +15,10 @@ class Scripted : public ctb::LlmClient {
   std::string model() const override { return "gpt-4o"; }
   std::variant<ctb::ChatResponse, ctb::Error> Complete(const ctb::ChatRequest&) override {
     if (next_ >= answers_.size()) return ctb::Error{ctb::ErrorCode::kUnavailable, "script exhausted", {}};
-    return ctb::ChatResponse{answers_[next_++], "stop"};
+    ctb::ChatResponse r;
+    r.content = answers_[next_++];
+    r.finish_reason = "stop";
+    return r;
   }
 
  private:

@@ -108,7 +108,11 @@ TEST(Translate, TheThesisFixedIndexSlipIsRepaired) {
   std::string repair = LastUserMessage(reqs[1]);
   EXPECT_NE(repair.find("warning: /constraints/temporal/first60/accepting_event1_constraint: offset 6: "
                         "fixed stage index [0] on 'projl'"), std::string::npos) << repair;
-  EXPECT_NE(repair.find("\"projl[0]==projOff\""), std::string::npos) << "quotes the previous answer";
+  // The answer is quoted once: as the assistant's turn, not again in the repair request.
+  const Json& msgs = reqs[1].body["messages"];
+  EXPECT_EQ(msgs[msgs.size() - 2]["role"], "assistant");
+  EXPECT_NE(msgs[msgs.size() - 2]["content"].get<std::string>().find("\"projl[0]==projOff\""), std::string::npos);
+  EXPECT_EQ(repair.find("\"initial_state\""), std::string::npos) << repair;
 }
 
 TEST(Translate, AMissingCommaIsRepaired) {
@@ -124,8 +128,9 @@ TEST(Translate, AMissingCommaIsRepaired) {
   ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
   EXPECT_EQ(std::get<TranslateResult>(r).repairs, 1);
   std::string repair = LastUserMessage(m.Requests()[2]);
-  EXPECT_NE(repair.find("/: offset "), std::string::npos) << repair;
-  EXPECT_NE(repair.find("not valid JSON"), std::string::npos) << repair;
+  EXPECT_NE(repair.find("/: not valid JSON"), std::string::npos) << repair;
+  EXPECT_NE(repair.find("near: `"), std::string::npos) << repair;  // the text, not an offset
+  EXPECT_EQ(repair.find("/: offset "), std::string::npos) << repair;
 }
 
 TEST(Translate, AnUnknownLocationIsRepairedQuotingTheChecker) {
@@ -156,19 +161,137 @@ TEST(Translate, ProseWithoutJsonFailsAfterTheRepairsWithEveryError) {
   EXPECT_EQ(e.code, ErrorCode::kUnprocessable);
   EXPECT_EQ(HttpStatus(e.code), 422);
   ASSERT_EQ(e.details.size(), 1u);
-  EXPECT_EQ(e.details[0].message, "the answer holds no JSON object");
+  EXPECT_EQ(e.details[0].message,
+            "the answer holds no JSON object; it reads: \"I think the projector should be on.\"");
   EXPECT_EQ(m.Requests().size(), 4u);  // 2 steps + 2 repairs
 }
 
 TEST(Translate, TruncatedAnswerIsAnError) {
   MockLlmServer m;
   m.Then(MockReply::Chat(kReasoning1));
-  m.Then(MockReply::Chat("{\"initial_state\": {\"comp\": \"comp", "length"));
+  for (int i = 0; i < 2; ++i) m.Then(MockReply::Chat("{\"initial_state\": {\"comp\": \"comp", "length"));
   auto client = MakeHttpClient(Config(m));
   auto r = TranslateCommand1(*client);
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   EXPECT_EQ(std::get<Error>(r).code, ErrorCode::kUpstreamFailed);
   EXPECT_NE(std::get<Error>(r).message.find("cut off"), std::string::npos);
+}
+
+TEST(Translate, ARepairQuotesABoundedExcerptOfTheAnswerOnce) {
+  MockLlmServer m;
+  std::string good = Example("presentation/test1_cot.json");
+  std::string typo = good;
+  typo.replace(typo.find("projl[i+1]==projWarmUp"), 22, "projl[i+1]==projWarmup");
+  std::string huge = "MARKER-HEAD " + std::string(2 * 1024 * 1024, 'x') + "\n" + typo;
+  m.Then(MockReply::Chat(huge));
+  m.Then(MockReply::Chat(good));
+  auto client = MakeHttpClient(Config(m));
+  auto r = TranslateCommand1(*client, Prompting::kDirect);
+  ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
+  auto reqs = m.Requests();
+  ASSERT_EQ(reqs.size(), 2u);
+  std::string body = reqs[1].body.dump();
+  EXPECT_LT(body.size(), 40000u) << "a 2 MB answer is not sent back whole";
+  std::size_t first = body.find("MARKER-HEAD");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(body.find("MARKER-HEAD", first + 1), std::string::npos) << "quoted once";
+  EXPECT_NE(body.find("bytes left out"), std::string::npos);
+  // The checker's finding still reaches the model.
+  EXPECT_NE(LastUserMessage(reqs[1]).find("unknown location 'projWarmup'"), std::string::npos);
+}
+
+TEST(Translate, ARepairThatDropsConstraintsOfAUsablePlanIsNotTaken) {
+  MockLlmServer m;
+  Json usable = Json::parse(Example("presentation/test1_cot.json"));
+  usable["constraints"]["temporal"]["ProjectorOnWithin60"]["accepting_event1_constraint"] =
+      "projl[0]==projOff /\\ projl[i+1]==projWarmUp";  // a fixed index: a warning, usable
+  Json fewer = Json::parse(Example("presentation/test1_cot.json"));
+  fewer["constraints"]["temporal"].erase("ProjectorOnWithin60");
+  m.Then(MockReply::Chat(usable.dump()));
+  m.Then(MockReply::Chat(fewer.dump()));
+  auto client = MakeHttpClient(Config(m));
+  auto r = TranslateCommand1(*client, Prompting::kDirect);
+  ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
+  const auto& t = std::get<TranslateResult>(r);
+  EXPECT_EQ(t.state_plan, usable);
+  std::string warnings;
+  for (const auto& w : t.warnings) warnings += w.ToString() + "\n";
+  EXPECT_NE(warnings.find("not taken"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("'ProjectorOnWithin60'"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("fixed stage index"), std::string::npos) << warnings;
+}
+
+TEST(Translate, ARepairThatDropsConstraintsAfterAnUnusableAnswerIsReported) {
+  MockLlmServer m;
+  std::string good = Example("presentation/test1_cot.json");
+  std::string typo = good;
+  typo.replace(typo.find("projl[i+1]==projWarmUp"), 22, "projl[i+1]==projWarmup");
+  Json fewer = Json::parse(good);
+  fewer["constraints"]["temporal"].erase("ProjectorOnWithin60");
+  m.Then(MockReply::Chat(typo));
+  m.Then(MockReply::Chat(fewer.dump()));
+  m.Then(MockReply::Chat(fewer.dump()));
+  auto client = MakeHttpClient(Config(m));
+  auto r = TranslateCommand1(*client, Prompting::kDirect);
+  ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
+  const auto& t = std::get<TranslateResult>(r);
+  EXPECT_EQ(t.repairs, 2) << "the drop is asked about";
+  std::string warnings;
+  for (const auto& w : t.warnings) warnings += w.ToString() + "\n";
+  EXPECT_NE(warnings.find("/constraints/temporal: the repair dropped 1 of the 2"), std::string::npos) << warnings;
+  EXPECT_NE(LastUserMessage(m.Requests()[2]).find("the repair dropped"), std::string::npos);
+}
+
+TEST(Translate, JsonSchemaIsSentWithTheStepsThatWantJson) {
+  MockLlmServer m;
+  m.Then(MockReply::Chat(kReasoning1));
+  m.Then(MockReply::Chat(Example("presentation/test1_cot.json")));
+  auto client = MakeHttpClient(Config(m));
+  TranslateOptions o;
+  o.response_format = ResponseFormat::kJsonSchema;
+  o.prompts_dir = ctb::testing::SourceDir() + "/prompts";
+  auto r = Translate(Presentation(), kCommand1, *client, o);
+  ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
+  auto reqs = m.Requests();
+  ASSERT_EQ(reqs.size(), 2u);
+  EXPECT_FALSE(reqs[0].body.contains("response_format")) << "the extraction step is free text";
+  const Json& rf = reqs[1].body["response_format"];
+  EXPECT_EQ(rf["type"], "json_schema");
+  EXPECT_EQ(rf["json_schema"]["schema"]["properties"]["initial_state"]["required"],
+            Json({"comp", "conn", "proj"}));
+}
+
+TEST(Translate, NormalisationsAreReturnedAsWarningsWithTheirPaths) {
+  MockLlmServer m;
+  Json plan = Json::parse(Example("presentation/test1_cot.json"));
+  plan["constraints"]["episodes"]["ProjectorOnDuration"]["lower_bound"] = "30 min";
+  plan["constraints"]["episodes"]["ProjectorOnDuration"]["upper_bound"] = "30 min";
+  std::string text = plan.dump(2);
+  std::string amp = text;
+  amp.replace(amp.find(" /\\\\ "), 5, " && ");
+  m.Then(MockReply::Chat("<think>ok</think>" + amp));
+  auto client = MakeHttpClient(Config(m));
+  auto r = TranslateCommand1(*client, Prompting::kDirect);
+  ASSERT_TRUE(std::holds_alternative<TranslateResult>(r)) << std::get<Error>(r).ToString();
+  const auto& t = std::get<TranslateResult>(r);
+  EXPECT_EQ(t.repairs, 0);
+  EXPECT_EQ(t.state_plan, Json::parse(Example("presentation/test1_cot.json")));
+  Json w = WarningsJson(t.warnings);
+  ASSERT_EQ(w.size(), 4u) << w.dump(2);
+  EXPECT_FALSE(w[0].contains("path"));
+  EXPECT_EQ(w[1]["path"], "/constraints/episodes/ProjectorOnDuration/lower_bound");
+  EXPECT_EQ(w[1]["message"], "read the string \"30 min\" as 1800 seconds");
+  EXPECT_EQ(w[3]["path"], "/constraints/temporal/ProjectorOnWithin60/accepting_event1_constraint");
+  EXPECT_EQ(w[3]["message"], "read '&&' as '/\\'");
+}
+
+TEST(Translate, TheKeyNeverAppearsInAnError) {
+  MockLlmServer m;
+  m.Then(MockReply::Status(400, "invalid request for key sk-test-secret-key-1234"));
+  auto client = MakeHttpClient(Config(m));
+  auto r = TranslateCommand1(*client, Prompting::kDirect);
+  ASSERT_TRUE(std::holds_alternative<Error>(r));
+  EXPECT_EQ(std::get<Error>(r).ToString().find("sk-test-secret"), std::string::npos);
 }
 
 TEST(HttpClient, RetriesA429AfterRetryAfter) {
@@ -314,14 +437,6 @@ TEST(LlmConfig, MasksTheKey) {
   LlmConfig c;
   c.api_key = "sk-abcdefghijklmnop";
   EXPECT_EQ(c.MaskedKey(), "sk-...mnop");
-}
-
-TEST(FindJson, FencesProseAndNothing) {
-  EXPECT_EQ(*FindJson("```json\n{\"a\": 1}\n```"), "{\"a\": 1}\n");
-  EXPECT_EQ(*FindJson("Sure! {\"a\": {\"b\": 2}} Hope it helps."), "{\"a\": {\"b\": 2}}");
-  EXPECT_EQ(*FindJson("```\nnot json\n```\nthen {\"x\": 1}"), "{\"x\": 1}");
-  EXPECT_FALSE(FindJson("no braces here"));
-  EXPECT_EQ(*FindJson("cut {\"a\": "), "{\"a\": ");
 }
 
 }  // namespace
