@@ -291,6 +291,10 @@ class Solver {
       if (!best_ || Better(p, *best_)) {
         best_ = p;
         horizon_ = h;
+        if (o_.on_progress)
+          o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
+                          {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
+                          {"elapsed_ms", MsSince(t0_)}});
       }
     }
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
@@ -406,6 +410,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   po.decompose = false;
   po.objective = objective;
   po.model_out.clear();
+  po.on_progress = nullptr;
   std::vector<Trajectory> plans;
   std::map<std::string, Core> solved;  // encoding -> result
   Core total;

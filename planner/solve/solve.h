@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -36,6 +37,10 @@ struct SolveOptions {
   long portfolio_delay_ms = 300;       // the second strategy starts only after this
   std::string model_out;               // when set, the last model is written here (+ .json data)
   const std::atomic<bool>* cancel = nullptr;
+  // Called on the calling thread each time a better verified plan is kept, with {"kind" (the
+  // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms"}. Not called for the parts
+  // of a decomposed problem (their objectives are not the whole plan's).
+  std::function<void(const Json& progress)> on_progress;
 };
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.
