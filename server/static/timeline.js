@@ -357,8 +357,9 @@ export function renderTimeline(container, t, sp, domain) {
     s.insertBefore(plot, s.querySelector(".bracket, .goal"));
     if (svg) svg.replaceWith(s); else stage.insertBefore(s, card);
     svg = s;
+    const round = (v) => (v1 - v0 >= 10 ? Math.round(v) : v);
     range.textContent = v0 === 0 && v1 === full ? `0:00 – ${clock(full, longForm)}`
-      : `${clock(v0, longForm)} – ${clock(v1, longForm)} of ${clock(full, longForm)}`;
+      : `${clock(round(v0), longForm)} – ${clock(round(v1), longForm)} of ${clock(full, longForm)}`;
   }
 
   const uid = Math.random().toString(36).slice(2, 9);
