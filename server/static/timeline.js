@@ -261,7 +261,7 @@ export function renderTimeline(container, t, sp, domain) {
     });
     const bItems = brackets.map((b, i) => {
       const x0 = clipX(x(b.from)), x1 = clipX(x(b.to));
-      const w = textWidth(b.label, font) + 6;
+      const w = textWidth(b.label, font) * 1.05 + 10;  // SVG text runs a little wider than canvas'
       return { b, i, bx0: x0, bx1: x1, x0: Math.min(x0, labelW + plotW - w), x1: Math.max(x1, Math.min(x0, labelW + plotW - w) + w) };
     });
     const bLanes = bItems.length ? lanes(bItems) : 0;

@@ -364,7 +364,11 @@ try {
     const sw = await phone.evaluate(() => document.scrollingElement.scrollWidth);
     check(`at ${w} px nothing scrolls sideways`, sw <= w, `scrollWidth ${sw}`);
     check(`at ${w} px the chart fits`, (await phone.locator("svg.timeline").evaluate((s) => s.getBoundingClientRect().right)) <= w);
-    if (w === 390) await phone.screenshot({ path: `${out}/chat-390x844.png`, fullPage: false });
+    if (w === 390) {
+      await phone.locator(".turn .summary").scrollIntoViewIfNeeded();
+      await phone.evaluate(() => window.scrollBy(0, -60));
+      await phone.screenshot({ path: `${out}/chat-390x844.png`, fullPage: false });
+    }
     await phone.locator("svg.timeline rect.segment[data-location=projOn]").click();
     check(`at ${w} px a tap opens a card`, await phone.locator(".timeline-card").isVisible());
     await phone.context().close();
