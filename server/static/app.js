@@ -22,6 +22,13 @@ const state = {
   pendingNote: "",     // said on the next dialogue's separator (why it is new)
 };
 
+// One short sentence for screen readers (the live region), instead of reading whole answers or
+// the ticking elapsed time.
+function announce(text) {
+  $("announcer").textContent = "";
+  setTimeout(() => { $("announcer").textContent = text; }, 50);
+}
+
 function el(tag, attrs = {}, text) {
   const e = document.createElement(tag);
   for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
@@ -83,7 +90,7 @@ function addTurnShell(section, command) {
 
 // The live part of a turn: spinner, stage, elapsed time, best plan so far.
 function progressView(turn) {
-  const box = el("div", { class: "progress", role: "status" });
+  const box = el("div", { class: "progress" });
   const line = el("div", { class: "progress-line" });
   const spin = el("span", { class: "spinner", "aria-hidden": "true" });
   const stage = el("span", { class: "stage" }, "sending");
@@ -100,6 +107,7 @@ function progressView(turn) {
       if (name === "stage") {
         stage.textContent = names[data.stage] || data.stage;
         stage.dataset.stage = data.stage;
+        announce(stage.textContent);
       } else if (name === "solution") {
         const v = data.kind === "makespan" ? `makespan ${clock(data.objective)}`
           : data.kind === "cost_then_makespan" ? `cost ${data.cost}, makespan ${clock(data.makespan)}`
@@ -107,6 +115,7 @@ function progressView(turn) {
         const li = el("li", { class: "solution" },
           `best so far: ${v} · ${data.horizon} events · found at ${seconds((data.elapsed_ms || 0) / 1000)}`);
         sols.appendChild(li);
+        announce(li.textContent);
       }
     },
     finish(text) {
@@ -167,6 +176,7 @@ async function send(command, { fresh = false } = {}) {
   } catch (err) {
     const stopped = controller.signal.aborted;
     progress.finish(stopped ? "stopped: the server cancels the job" : "failed");
+    announce(stopped ? "Stopped." : "The request failed.");
     if (!stopped) showError(turn, 0, { error: { code: "network", message: String(err) } }, { followUp, command });
     setBusy(null);
     return;
@@ -176,6 +186,7 @@ async function send(command, { fresh = false } = {}) {
   if (result.status !== 200) {
     progress.finish("failed");
     showError(turn, result.status, result.data, { followUp, command });
+    announce(`Failed: ${result.data?.error?.message || result.status}`);
     if (state.session) store.addTurn(state.session, domain, { command, error: { status: result.status, data: result.data }, at });
     return;
   }
@@ -189,6 +200,7 @@ async function send(command, { fresh = false } = {}) {
   }
   section.dataset.session = state.session || "";
   renderAnswer(turn, data, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c) });
+  announce(`Answer: ${turn.querySelector(".summary")?.textContent || ""}`);
   if (state.session) store.addTurn(state.session, section.dataset.domain, { command, answer: data, at });
   if ($("command").value.trim() === command) $("command").value = "";
   updateCounter();

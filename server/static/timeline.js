@@ -147,10 +147,11 @@ export function renderTimeline(container, t, sp, domain) {
   const range = htmlEl("span", { class: "timeline-range", "aria-live": "polite" });
   tools.append(zoomOut, zoomIn, fit, range);
   const stage = htmlEl("div", {
-    class: "timeline-stage", tabindex: "0",
+    class: "timeline-stage", tabindex: "0", role: "region",
     "aria-label": "Timeline. Arrow keys pan, plus and minus zoom, 0 shows the whole plan.",
   });
-  const card = htmlEl("div", { class: "timeline-card", role: "status", hidden: "" });
+  // The card repeats what "Timeline as a table" says; screen readers read the table instead.
+  const card = htmlEl("div", { class: "timeline-card", "aria-hidden": "true", hidden: "" });
   stage.appendChild(card);
   wrap.append(tools, stage);
 

@@ -153,6 +153,10 @@ try {
               ticks.every((x) => Number(x.split(":")[1]) % 5 === 0) &&
               (await turn.locator("svg.timeline .gridline").count()) === ticks.length, JSON.stringify(ticks));
         await page.screenshot({ path: `${out}/chat-1400x900.png`, fullPage: false });
+        const announced = await page.waitForFunction(() => document.getElementById("announcer").textContent, null, { timeout: 5000 })
+          .then((h) => h.jsonValue()).catch(() => "");
+        check("screen readers hear the verdict, once (live region)", announced.startsWith("Answer: optimal, verified") &&
+              (await page.locator("[aria-live]").count()) === 1, announced);
         // Hover and tap cards.
         const seg = turn.locator('svg.timeline rect.segment[data-location="projOn"]');
         await seg.hover();
