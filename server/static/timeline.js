@@ -278,7 +278,9 @@ export function renderTimeline(container, t, sp, domain) {
     const axisY = bandY + bandH + 4;
     const height = axisY + 18;
 
+    // Text is measured at these sizes, so the CSS draws it at them.
     const s = svgEl("svg", { class: "timeline", width, height, viewBox: `0 0 ${width} ${height}`, role: "img",
+      style: `--fs: ${font}px; --fs-small: ${font - 1}px`,
       "aria-label": `Timeline of ${names.length} automata up to ${clock(full, longForm)}` +
         (goal !== null ? `, goal reached at ${clock(goal, longForm)}` : "") });
     const defs = svgEl("defs");

@@ -248,6 +248,28 @@ try {
         (await page.locator(".turn").count()) === 1 && (await page.locator(".turn svg.timeline").count()) === 1,
         `${url} ${await page.textContent("#session-label")}`);
 
+  // GET /sessions/{id} (contract section 9): the server's turns, drawn with this browser's whole
+  // answers where it has them, else with what the server kept.
+  const kept = await lastAnswer(page);
+  await page.route(`**/sessions/${sessionId}`, (route) => route.fulfill({
+    status: 200, contentType: "application/json",
+    body: JSON.stringify({ session: sessionId, domain: "presentation", turns: [
+      { command: examples.domains.presentation[1].command, reasoning: kept.reasoning, state_plan: kept.state_plan,
+        trajectory_summary: { status: "optimal", objective: kept.trajectory.objective }, at: "2026-01-01T00:00:00Z" },
+      { command: "a turn this browser never saw", reasoning: "because", state_plan: { initial_state: {} },
+        trajectory_summary: { status: "feasible", verified: true, objective: { kind: "cost", value: 9 } }, at: "2026-01-01T00:01:00Z" },
+    ] }),
+  }));
+  await page.reload();
+  await page.waitForSelector("body[data-ready='1']");
+  const restored = page.locator(".turn");
+  check("turns restored from GET /sessions/{id}", (await restored.count()) === 2 &&
+        (await restored.nth(0).locator("svg.timeline").count()) === 1 &&
+        (await restored.nth(1).locator("svg.timeline").count()) === 0 &&
+        /feasible, verified · cost 9/.test(await restored.nth(1).locator(".summary").textContent()) &&
+        /without its timeline/.test(await restored.nth(1).textContent()));
+  await page.unroute(`**/sessions/${sessionId}`);
+
   // --- Live progress before the answer; Stop cancels the solver ---
   // search_rescue example 2 (makespan): a first plan within seconds, the proof of optimality later.
   await page.selectOption("#domain", "search_rescue");
