@@ -29,8 +29,9 @@ class EventStream {
 
   // Writes one event; data goes on one line (JSON dumps without newlines).
   void Send(const std::string& event, const Json& data) {
-    std::string text = "event: " + event + "\ndata: " +
-                       data.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n\n";
+    std::string text = "event: " + event +
+                       "\ndata: " + data.dump(-1, ' ', false, Json::error_handler_t::replace) +
+                       "\n\n";
     std::lock_guard<std::mutex> lock(mu_);
     if (open_ && !sink_.write(text.data(), text.size())) open_ = false;
   }
@@ -98,8 +99,8 @@ void SendBadStream(httplib::Response& res) {
 
 }  // namespace
 
-void WithStreaming(const httplib::Request& req, httplib::Response& res,
-                   std::atomic<int>& in_flight, const RouteHandler& handler) {
+void WithStreaming(const httplib::Request& req, httplib::Response& res, std::atomic<int>& in_flight,
+                   const RouteHandler& handler) {
   Diagnostics d;
   auto body = ParseJsonStrict(req.body, d);
   if (!body || !body->is_object() || !body->contains("stream")) return handler(req, res);
@@ -136,8 +137,10 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res,
             spdlog::error("{}", Json("unhandled exception in a stream: " + std::string(e.what()))
                                     .dump(-1, ' ', false, Json::error_handler_t::replace));
             answer.status = 500;
-            answer.body = Json({{"error", {{"code", CodeName(ErrorCode::kInternal)},
-                                           {"message", "internal error"}}}}).dump();
+            answer.body =
+                Json({{"error",
+                       {{"code", CodeName(ErrorCode::kInternal)}, {"message", "internal error"}}}})
+                    .dump();
           }
         }
         int status = answer.status == -1 ? 200 : answer.status;
@@ -150,8 +153,11 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res,
           (*data)["status"] = status;
           stream.Send("error", *data);
         }
-        spdlog::info("{}", Json({{"event", "stream_end"}, {"path", inner->path}, {"status", status},
-                                 {"client_connected", stream.open()}, {"ms", stream.ElapsedMs()}})
+        spdlog::info("{}", Json({{"event", "stream_end"},
+                                 {"path", inner->path},
+                                 {"status", status},
+                                 {"client_connected", stream.open()},
+                                 {"ms", stream.ElapsedMs()}})
                                .dump(-1, ' ', false, Json::error_handler_t::replace));
         sink.done();
         SetThreadRequestId("");
@@ -174,9 +180,12 @@ std::function<void(const Json& progress)> StreamSolutionReporter() {
     const std::string kind = p.value("kind", "cost");
     Json makespan = Seconds(p.value("makespan", Json()));
     data["makespan"] = makespan;
-    if (kind == "makespan") data["objective"] = makespan;
-    else if (kind == "cost_then_makespan") data["objective"] = {{"cost", p.value("cost", Json())}, {"makespan", makespan}};
-    else data["objective"] = p.value("cost", Json());
+    if (kind == "makespan")
+      data["objective"] = makespan;
+    else if (kind == "cost_then_makespan")
+      data["objective"] = {{"cost", p.value("cost", Json())}, {"makespan", makespan}};
+    else
+      data["objective"] = p.value("cost", Json());
     data["solve_ms"] = p.value("elapsed_ms", Json());
     data["elapsed_ms"] = s->ElapsedMs();
     s->Send("solution", data);

@@ -37,8 +37,8 @@ using RouteHandler = std::function<void(const httplib::Request&, httplib::Respon
 // "stream" taken out of the body, so handlers never see it); any other "stream" is a 400. A body
 // that is not a JSON object goes to the handler untouched (which reports it). `in_flight` counts
 // the streaming job while it runs (the shutdown drain waits for it); it must outlive the server.
-void WithStreaming(const httplib::Request& req, httplib::Response& res,
-                   std::atomic<int>& in_flight, const RouteHandler& handler);
+void WithStreaming(const httplib::Request& req, httplib::Response& res, std::atomic<int>& in_flight,
+                   const RouteHandler& handler);
 
 // Sends `event: stage` with {"stage": stage} to this thread's stream, if any.
 void StreamStage(const std::string& stage);

@@ -4,6 +4,7 @@
 // each event timed on arrival).
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <strings.h>
@@ -15,8 +16,6 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
-
-#include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
 #include "../process_count.h"
@@ -72,7 +71,9 @@ class Server {
     port_ = FreePort();
     pid_ = fork();
     if (pid_ == 0) {
-      for (const char* v : {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"}) unsetenv(v);
+      for (const char* v :
+           {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"})
+        unsetenv(v);
       setenv("CTB_CONFIG_DIR", (ctb::testing::SourceDir() + "/config").c_str(), 1);
       setenv("CTB_PROMPTS_DIR", (ctb::testing::SourceDir() + "/prompts").c_str(), 1);
       int devnull = open("/dev/null", O_WRONLY);
@@ -121,12 +122,15 @@ class SseClient {
   SseClient(int port, const Json& body, const std::string& path = "/plan") {
     fd_ = Connect(port);
     std::string b = body.dump();
-    std::string req = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n"
+    std::string req = "POST " + path +
+                      " HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n"
                       "Accept-Encoding: gzip, deflate, br\r\nContent-Type: application/json\r\n"
-                      "Content-Length: " + std::to_string(b.size()) + "\r\n\r\n" + b;
+                      "Content-Length: " +
+                      std::to_string(b.size()) + "\r\n\r\n" + b;
     t0_ = Clock::now();
     if (fd_ >= 0) send(fd_, req.data(), req.size(), 0);
-    while (fd_ >= 0 && raw_.find("\r\n\r\n") == std::string::npos && Fill()) {}
+    while (fd_ >= 0 && raw_.find("\r\n\r\n") == std::string::npos && Fill()) {
+    }
     auto end = raw_.find("\r\n\r\n");
     if (end == std::string::npos) return;
     head_ = raw_.substr(0, end);
@@ -225,7 +229,8 @@ Json Example(const std::string& file) {
 
 std::vector<std::string> Names(const std::vector<Event>& events) {
   std::vector<std::string> v;
-  for (const auto& e : events) v.push_back(e.name == "stage" ? "stage:" + e.data.value("stage", "?") : e.name);
+  for (const auto& e : events)
+    v.push_back(e.name == "stage" ? "stage:" + e.data.value("stage", "?") : e.name);
   return v;
 }
 
@@ -263,12 +268,15 @@ TEST(ServiceStream, PlanStreamsStagesTheImprovingPlanAndTheWholeAnswer) {
   EXPECT_EQ(solutions.back().data["makespan"], 2430);
   EXPECT_TRUE(solutions.back().data["elapsed_ms"].is_number_integer());
   for (std::size_t i = 1; i < solutions.size(); ++i)
-    EXPECT_LT(solutions[i].data["objective"].get<long>(), solutions[i - 1].data["objective"].get<long>());
+    EXPECT_LT(solutions[i].data["objective"].get<long>(),
+              solutions[i - 1].data["objective"].get<long>());
 }
 
 TEST(ServiceStream, DirectPromptingReportsItsRepair) {
   Server s;
-  SseClient c(s.port(), {{"domain", "presentation"}, {"command", kTp1}, {"prompting", "direct"}, {"stream", true}});
+  SseClient c(
+      s.port(),
+      {{"domain", "presentation"}, {"command", kTp1}, {"prompting", "direct"}, {"stream", true}});
   auto names = Names(c.All());
   // The recorded direct answer has the projl[0] slip: one repair request.
   ASSERT_GE(names.size(), 4u);
@@ -298,7 +306,9 @@ TEST(ServiceStream, SolveStreamsTheSameAnswerAsWithoutStreaming) {
 
 TEST(ServiceStream, StreamFalseAnswersPlainJson) {
   Server s;
-  Json body = {{"domain", "presentation"}, {"state_plan", Example("presentation/test1_cot.json")}, {"stream", false}};
+  Json body = {{"domain", "presentation"},
+               {"state_plan", Example("presentation/test1_cot.json")},
+               {"stream", false}};
   SseClient c(s.port(), body, "/solve");
   EXPECT_EQ(c.status(), 200);
   EXPECT_EQ(c.Header("Content-Type"), "application/json");
@@ -314,7 +324,8 @@ TEST(ServiceStream, StreamMustBeABoolean) {
 TEST(ServiceStream, AnInvalidRequestEndsWithAnErrorEvent) {
   Server s;
   {
-    SseClient c(s.port(), {{"domain", "nope"}, {"state_plan", Json::object()}, {"stream", true}}, "/solve");
+    SseClient c(s.port(), {{"domain", "nope"}, {"state_plan", Json::object()}, {"stream", true}},
+                "/solve");
     EXPECT_EQ(c.status(), 200);
     auto events = c.All();
     ASSERT_EQ(events.size(), 1u) << ::testing::PrintToString(Names(events));
@@ -325,7 +336,8 @@ TEST(ServiceStream, AnInvalidRequestEndsWithAnErrorEvent) {
   {
     Json sp = Example("presentation/test1_cot.json");
     sp["initial_state"]["proj"] = "projOnn";
-    SseClient c(s.port(), {{"domain", "presentation"}, {"state_plan", sp}, {"stream", true}}, "/solve");
+    SseClient c(s.port(), {{"domain", "presentation"}, {"state_plan", sp}, {"stream", true}},
+                "/solve");
     auto events = c.All();
     ASSERT_EQ(events.size(), 1u);
     EXPECT_EQ(events[0].data["status"], 400);
@@ -333,20 +345,24 @@ TEST(ServiceStream, AnInvalidRequestEndsWithAnErrorEvent) {
   }
   {
     // No LLM and no recording for this command: 503 with how to configure one.
-    SseClient c(s.port(), {{"domain", "presentation"}, {"command", "never recorded"}, {"stream", true}});
+    SseClient c(s.port(),
+                {{"domain", "presentation"}, {"command", "never recorded"}, {"stream", true}});
     auto events = c.All();
     ASSERT_FALSE(events.empty());
     EXPECT_EQ(events.back().name, "error");
     EXPECT_EQ(events.back().data["status"], 503);
-    EXPECT_NE(events.back().data["error"]["message"].get<std::string>().find("CTB_LLM_BASE_URL"), std::string::npos);
+    EXPECT_NE(events.back().data["error"]["message"].get<std::string>().find("CTB_LLM_BASE_URL"),
+              std::string::npos);
   }
 }
 
 // search_rescue test prompt 2 asks for the fastest rescue: the first plan comes within seconds,
 // the proof that none is faster takes longer.
 Json SlowSolve() {
-  return {{"domain", "search_rescue"}, {"state_plan", Example("search_rescue/test2.json")},
-          {"options", {{"time_limit_ms", 60000}}}, {"stream", true}};
+  return {{"domain", "search_rescue"},
+          {"state_plan", Example("search_rescue/test2.json")},
+          {"options", {{"time_limit_ms", 60000}}},
+          {"stream", true}};
 }
 
 TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
@@ -370,7 +386,8 @@ TEST(ServiceStream, AClientThatHangsUpCancelsTheSolver) {
   {
     SseClient c(s.port(), SlowSolve(), "/solve");
     std::optional<Event> e;
-    while ((e = c.Next()) && e->name != "solution") {}
+    while ((e = c.Next()) && e->name != "solution") {
+    }
     ASSERT_TRUE(e) << "no solution event";
     // The next horizon's model starts a moment after the first plan.
     int running = 0;
@@ -388,8 +405,11 @@ TEST(ServiceStream, AClientThatHangsUpCancelsTheSolver) {
   }
   EXPECT_EQ(left, 0) << "solver processes left after the client hung up";
   // The slot is free again: another stream runs to its answer.
-  SseClient again(s.port(), {{"domain", "presentation"}, {"state_plan", Example("presentation/test1_cot.json")},
-                             {"stream", true}}, "/solve");
+  SseClient again(s.port(),
+                  {{"domain", "presentation"},
+                   {"state_plan", Example("presentation/test1_cot.json")},
+                   {"stream", true}},
+                  "/solve");
   auto events = again.All();
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events.back().name, "done");
