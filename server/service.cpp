@@ -19,6 +19,7 @@
 #include "server/conn_watch.h"
 #include "server/log_context.h"
 #include "server/metrics.h"
+#include "server/stream.h"
 #include "translator/pipeline.h"
 #include "translator/text.h"
 
@@ -277,6 +278,8 @@ class Service {
     std::atomic<bool> job_cancel{false}, done{false};
     o.cancel = &job_cancel;
     const std::string request_id = ThreadRequestId();  // the sanitized one, set by Wrap()
+    StreamStage("solving");
+    o.on_progress = StreamSolutionReporter();
     std::thread watch([&] {
       while (!done) {
         if (cancel_ || !ClientConnected(req.local_port, req.remote_port)) {
@@ -363,8 +366,8 @@ class Service {
     }
     auto llm = Llm();
     if (auto* e = std::get_if<Error>(&llm)) return *e;
-    auto& client = *std::get<std::unique_ptr<LlmClient>>(llm);
-    auto r = Translate(*std::get<std::shared_ptr<const Domain>>(dom), body["command"], client, to);
+    auto client = StreamReportingLlm(std::move(std::get<std::unique_ptr<LlmClient>>(llm)));
+    auto r = Translate(*std::get<std::shared_ptr<const Domain>>(dom), body["command"], *client, to);
     if (auto* e = std::get_if<Error>(&r)) {
       if (e->code == ErrorCode::kUnavailable && cfg_.llm.base_url.empty())
         e->message += " (no LLM endpoint configured: set CTB_LLM_BASE_URL, CTB_LLM_API_KEY and CTB_LLM_MODEL)";
@@ -485,9 +488,13 @@ class Service {
       SendError(res, e);
       res.status = status;
     });
-    svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) { HandleSolve(q, s); }));
+    svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2) { HandleSolve(q2, s2); });
+    }));
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));
-    svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) { HandlePlan(q, s); }));
+    svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2) { HandlePlan(q2, s2); });
+    }));
     svr_.Get("/domains", Wrap("/domains", [this](auto&, auto& s) {
       Json list = Json::array();
       for (const auto& [name, d] : domains_) {
@@ -501,6 +508,13 @@ class Service {
       auto it = domains_.find(q.matches[1]);
       if (it == domains_.end()) return SendError(s, {ErrorCode::kNotFound, "unknown domain", {}});
       SendJson(s, 200, DomainToJson(it->second));
+    }));
+    // For the web page: which LLM answers (an endpoint, a replay directory, or the shipped
+    // recordings when none is configured).
+    svr_.Get("/info", Wrap("/info", [this](auto&, auto& s) {
+      const LlmConfig& l = cfg_.llm;
+      const char* mode = !l.replay_dir.empty() ? "replay" : !l.base_url.empty() ? "endpoint" : "recordings";
+      SendJson(s, 200, {{"llm", {{"mode", mode}, {"model", l.model}}}});
     }));
     svr_.Get("/healthz", Wrap("/healthz", [](auto&, auto& s) { SendJson(s, 200, {{"status", "ok"}}); }));
     svr_.Get("/readyz", Wrap("/readyz", [this](auto&, auto& s) {

@@ -296,6 +296,10 @@ class Solver {
       if (!best_ || Better(p, *best_)) {
         best_ = p;
         horizon_ = h;
+        if (o_.on_progress)
+          o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
+                          {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
+                          {"elapsed_ms", MsSince(t0_)}});
       }
     }
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal

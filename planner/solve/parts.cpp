@@ -121,6 +121,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   po.decompose = false;
   po.objective = objective;
   po.model_out.clear();
+  po.on_progress = nullptr;  // a part's objective is not the whole plan's
   stats["parts"] = parts.size();
   auto give_up = [&](const std::string& why) {
     stats["merge"] = why;

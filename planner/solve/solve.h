@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -46,6 +47,10 @@ struct SolveOptions {
   bool static_analysis = true;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;
+  // Called on the calling thread each time a better verified plan is kept, with {"kind" (the
+  // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms"}. Not called for the parts
+  // of a decomposed problem (their objectives are not the whole plan's).
+  std::function<void(const Json& progress)> on_progress;
 };
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.
