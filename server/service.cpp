@@ -22,6 +22,7 @@
 #include "server/limits.h"
 #include "server/log_context.h"
 #include "server/metrics.h"
+#include "server/openapi_json.h"
 #include "translator/pipeline.h"
 
 namespace ctb::server {
@@ -610,6 +611,9 @@ class Service {
     }));
     svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) { HandleGetSession(q, s); }));
     svr_.Delete(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) { HandleDeleteSession(q, s); }));
+    svr_.Get("/openapi.json", Wrap("/openapi.json", [](auto&, auto& s) {
+      s.set_content(kOpenApiJson, sizeof kOpenApiJson - 1, "application/json");
+    }));
     svr_.Get("/healthz", Wrap("/healthz", [](auto&, auto& s) { SendJson(s, 200, {{"status", "ok"}}); }));
     svr_.Get("/readyz", Wrap("/readyz", [this](auto&, auto& s) {
       if (draining_) return SendError(s, {ErrorCode::kUnavailable, "draining", {}});

@@ -26,6 +26,9 @@ using testing::SolverProcesses;
 
 constexpr long kRssLimitMb = 500;
 
+// Every answer received here is checked against server/openapi.json at the end.
+const auto* const kOpenApi = ::testing::AddGlobalTestEnvironment(new testing::OpenApiCheck);
+
 long MsSince(Clock::time_point t0) {
   return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
 }
@@ -301,6 +304,7 @@ TEST(Hostile, EchoedIdsAreCut) {
   // A request id that is not sane is replaced by a random one (hex); a sane one is echoed.
   httplib::Client c = s.Client();
   auto made = c.Get("/healthz", {{"X-Request-Id", std::string(5000, 'r')}});
+  testing::Record("GET", "/healthz", made);
   ASSERT_TRUE(made);
   std::string rid = made->get_header_value("X-Request-Id");
   EXPECT_EQ(rid.size(), 16u);
@@ -376,6 +380,23 @@ TEST(Hostile, ASolverKilledBySignalIsAnErrorNotUnknown) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("solver_crashed"), std::string::npos) << "the crash is logged";
   std::remove(log.c_str());
+}
+
+TEST(Hostile, TheOpenApiDocumentIsServed) {
+  ServerProcess s;
+  auto c = s.Client();
+  auto r = c.Get("/openapi.json");
+  ASSERT_TRUE(r);
+  testing::Record("GET", "/openapi.json", r);
+  EXPECT_EQ(r->status, 200);
+  Json served = Json::parse(r->body);
+  Json kept = Json::parse(std::ifstream(testing::SourceDir() + "/server/openapi.json"));
+  EXPECT_EQ(served, kept);
+  EXPECT_EQ(served["openapi"], "3.1.0");
+  for (const char* p : {"/solve", "/plan", "/translate", "/sessions/{id}", "/domains", "/domains/{name}", "/healthz",
+                        "/readyz", "/metrics", "/openapi.json"})
+    EXPECT_TRUE(served["paths"].contains(p)) << p;
+  for (const char* p : {"/domains", "/domains/presentation", "/readyz", "/metrics", "/nosuchroute"}) testing::Record("GET", p, c.Get(p));
 }
 
 }  // namespace

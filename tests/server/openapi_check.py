@@ -15,7 +15,8 @@ import jsonschema
 
 
 def template_regex(t):
-    return re.compile("^" + re.sub(r"\\{[^}]+\\}", "[^/]+", re.escape(t).replace(r"\{", "{").replace(r"\}", "}")) + "$")
+    parts = re.split(r"\{[^}]+\}", t)
+    return re.compile("^" + "[^/]+".join(re.escape(p) for p in parts) + "$")
 
 
 def main():
