@@ -18,14 +18,12 @@ struct PlanCliOptions {
 
 int Fail(const Error& e) {
   PrintError(e);
-  switch (e.code) {
-    case ErrorCode::kInvalidInput: case ErrorCode::kNotFound: return 1;
-    case ErrorCode::kUnprocessable: return 4;
-    default: return 3;
-  }
+  return ExitCodeFor(e.code);
 }
 
 int RunPlan(const PlanCliOptions& o) {
+  if (!o.objective.empty() && !ParseObjective(o.objective))
+    return Fail({ErrorCode::kInvalidInput, "--objective must be cost, makespan or cost_then_makespan", {}});
   Json options = {{"time_limit_ms", o.time_limit_ms}};
   if (!o.objective.empty()) options["objective"] = o.objective;
   if (!o.server.empty()) {
@@ -49,6 +47,7 @@ int RunPlan(const PlanCliOptions& o) {
   if (!p) return Fail({ErrorCode::kInvalidInput, "--prompting must be cot or direct", {}});
   to.prompting = *p;
   to.max_repairs = std::get<LlmConfig>(cfg).max_repairs;
+  to.json_mode = std::get<LlmConfig>(cfg).json_mode;  // CTB_LLM_JSON_MODE
   auto t = Translate(*domain, o.command, *std::get<std::unique_ptr<LlmClient>>(client), to);
   if (auto* e = std::get_if<Error>(&t)) return Fail(*e);
   const auto& tr = std::get<TranslateResult>(t);

@@ -148,6 +148,11 @@ class Service {
         return false;
       }
       std::string name = dom->name;
+      if (domains_.count(name)) {
+        spdlog::error("{}", Json(fmt::format("domain file {} repeats the domain name '{}' of another file",
+                                             f.path().string(), name)).dump(-1, ' ', false, Json::error_handler_t::replace));
+        return false;
+      }
       domains_.emplace(name, std::move(*dom));
     }
     return !domains_.empty();

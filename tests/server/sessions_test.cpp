@@ -343,5 +343,59 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
   std::filesystem::remove_all(dir);
 }
 
+// Review defects of issue 13, section 4 (each a process exit code or an answer).
+int RunToExit(const std::vector<std::string>& args, std::vector<std::pair<std::string, std::string>> env = {}) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    dup2(devnull, 2);
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  for (int i = 0; i < 500; ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -2;  // still running after 10 s
+}
+
+TEST(Defects, ReviewFindingsOfIssue13) {
+  const std::string dir = TempDir("defects");
+  // A second domain file with an existing name stops the start, instead of being dropped.
+  std::filesystem::create_directories(dir + "/config/domains");
+  std::filesystem::copy_file(testing::ConfigDir() + "/domains/presentation.json", dir + "/config/domains/a.json");
+  std::filesystem::copy_file(testing::ConfigDir() + "/domains/presentation.json", dir + "/config/domains/b.json");
+  EXPECT_EQ(RunToExit({CTB_BINARY, "serve", "--port", "0", "--config-dir", dir + "/config", "--data-dir", dir + "/d"}), 2);
+  // Out-of-range numbers in the configuration file are refused, not cast.
+  std::ofstream(dir + "/big.json") << R"({"solver_workers": 1099511627776})";
+  EXPECT_EQ(RunToExit({CTB_BINARY, "serve", "--port", "0", "--config", dir + "/big.json", "--data-dir", dir + "/d"},
+                      {{"CTB_CONFIG_DIR", testing::ConfigDir()}}), 2);
+  std::ofstream(dir + "/neg.json") << R"({"read_timeout_s": 0})";
+  EXPECT_EQ(RunToExit({CTB_BINARY, "serve", "--port", "0", "--config", dir + "/neg.json", "--data-dir", dir + "/d"},
+                      {{"CTB_CONFIG_DIR", testing::ConfigDir()}}), 2);
+  // `ctburton plan` refuses an invalid --objective up front (exit 1, the shared exit-code map).
+  EXPECT_EQ(RunToExit({CTB_BINARY, "plan", "--domain", "presentation", "--objective", "fastest", "x"},
+                      {{"CTB_CONFIG_DIR", testing::ConfigDir()}}), 1);
+  // /metrics counts the page and static files; without --demo there is no recordings fallback.
+  ServerProcess s(Json::object(), {"--data-dir", dir + "/d"});
+  auto c = s.Client();
+  auto page = c.Get("/");
+  ASSERT_TRUE(page);
+  auto m = Call(c, "GET", "/metrics");
+  EXPECT_NE(m->body.find("route=\"(static)\""), std::string::npos);
+  auto t = Call(c, "POST", "/translate", Json({{"domain", "presentation"}, {"command", "x"}}));
+  EXPECT_EQ(t->status, 503);
+  EXPECT_NE(Json::parse(t->body)["error"]["message"].get<std::string>().find("--demo"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ctb
