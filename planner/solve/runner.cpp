@@ -231,15 +231,15 @@ RunResult RunMiniZinc(const RunRequest& req) {
     r.error = "cannot create pipes for the solver";
     return r;
   }
+  const rlim_t memory_limit = req.memory_limit_mb > 0
+                                 ? static_cast<rlim_t>(req.memory_limit_mb) * 1024 * 1024
+                                 : RLIM_INFINITY;
+  pid_t pid = fork();
   if (pid < 0) {
     for (int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) close(fd);
     r.error = "cannot start the solver process";
     return r;
   }
-  const rlim_t memory_limit = req.memory_limit_mb > 0
-                                 ? static_cast<rlim_t>(req.memory_limit_mb) * 1024 * 1024
-                                 : RLIM_INFINITY;
-  pid_t pid = fork();
   if (pid == 0) {  // child: async-signal-safe calls only
     setpgid(0, 0);
     if (memory_limit != RLIM_INFINITY) {
