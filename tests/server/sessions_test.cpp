@@ -343,6 +343,36 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Sessions, RedisStoreHasTheSameCapAndIdleExpiry) {
+  if (!Executable("/usr/bin/redis-server")) GTEST_SKIP() << "redis-server missing: bash scripts/install-deps.sh --test";
+  const std::string dir = TempDir("redis-cap");
+  const int redis_port = testing::FreeLoopbackPort();
+  pid_t redis = Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
+                       "--save", "", "--appendonly", "no", "--dir", dir},
+                      dir + "/redis.log");
+  ASSERT_TRUE(WaitForPort(redis_port, 5000)) << "redis-server did not start";
+  MockLlmServer m;
+  Json plan = Example("presentation/test1_cot.json");
+  for (int i = 0; i < 2; ++i) m.Then(MockReply::Chat(plan.dump()));
+  {
+    ServerProcess s({{"max_sessions", 1}, {"session_idle_s", 2}},
+                    {"--session-store", "redis://127.0.0.1:" + std::to_string(redis_port) + "/3"}, LlmEnv(m));
+    auto c = s.Client();
+    auto p1 = Call(c, "POST", "/plan", PlanBody("one"));
+    ASSERT_EQ(p1->status, 200) << p1->body;
+    const std::string id = Json::parse(p1->body)["session"];
+    auto full = Call(c, "POST", "/plan", PlanBody("two"));
+    EXPECT_EQ(full->status, 503);
+    EXPECT_EQ(m.Requests().size(), 1u) << "refused before the LLM";
+    EXPECT_EQ(Call(c, "GET", "/sessions/" + id)->status, 200);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2600));
+    EXPECT_EQ(Call(c, "GET", "/sessions/" + id)->status, 404) << "expired after 2 s idle";
+    EXPECT_EQ(Call(c, "POST", "/plan", PlanBody("three"))->status, 200) << "the expired one no longer counts";
+  }
+  StopChild(redis);
+  std::filesystem::remove_all(dir);
+}
+
 // Review defects of issue 13, section 4 (each a process exit code or an answer).
 int RunToExit(const std::vector<std::string>& args, std::vector<std::pair<std::string, std::string>> env = {}) {
   pid_t pid = fork();
