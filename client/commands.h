@@ -15,6 +15,11 @@ using Runner = std::function<int()>;
 // Prints "error (<code>): <message>" and one line per detail to stderr.
 void PrintError(const Error& e);
 
+// The one exit-code map of the commands that report an Error: 1 bad input (or unknown name),
+// 4 the LLM's answer could not be repaired, 3 anything else (endpoint, solver, server failed).
+// (`solve` and `validate` also use 2 for a domain file that does not load.)
+int ExitCodeFor(ErrorCode code);
+
 // `ctburton validate --domain NAME|PATH FILE`: exit 0 and "valid" (warnings after it) or exit 1
 // and one line per error: "<json pointer>: <offset if any>: <message>".
 Runner AddValidate(CLI::App& app);

@@ -10,6 +10,16 @@
 #include "translator/text.h"
 
 namespace ctb::cli {
+int ExitCodeFor(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kInvalidInput:
+    case ErrorCode::kNotFound:
+    case ErrorCode::kTooLarge: return 1;
+    case ErrorCode::kUnprocessable: return 4;
+    default: return 3;
+  }
+}
+
 void PrintError(const Error& e) {
   std::cerr << "error (" << CodeName(e.code) << "): " << ValidUtf8(e.message) << "\n";
   for (const auto& d : e.details) std::cerr << ValidUtf8(d.ToString()) << "\n";

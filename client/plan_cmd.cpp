@@ -19,14 +19,12 @@ struct PlanCliOptions {
 
 int Fail(const Error& e) {
   PrintError(e);
-  switch (e.code) {
-    case ErrorCode::kInvalidInput: case ErrorCode::kNotFound: return 1;
-    case ErrorCode::kUnprocessable: return 4;
-    default: return 3;
-  }
+  return ExitCodeFor(e.code);
 }
 
 int RunPlan(const PlanCliOptions& o) {
+  if (!o.objective.empty() && !ParseObjective(o.objective))
+    return Fail({ErrorCode::kInvalidInput, "--objective must be cost, makespan or cost_then_makespan", {}});
   Json options = {{"time_limit_ms", o.time_limit_ms}};
   if (!o.objective.empty()) options["objective"] = o.objective;
   if (!o.server.empty()) {

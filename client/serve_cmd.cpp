@@ -13,7 +13,8 @@ namespace ctb::cli {
 namespace {
 struct ServeOptions {
   std::optional<int> port;
-  std::string host, config_file, config_dir;
+  std::string host, config_file, config_dir, data_dir, session_store;
+  bool demo = false;
 };
 
 int RunServe(const ServeOptions& o) {
@@ -29,6 +30,9 @@ int RunServe(const ServeOptions& o) {
   if (o.port) c.port = *o.port;
   if (!o.host.empty()) c.host = o.host;
   if (!o.config_dir.empty()) c.config_dir = o.config_dir;
+  if (!o.data_dir.empty()) c.data_dir = o.data_dir;
+  if (!o.session_store.empty()) c.session_store = o.session_store;
+  if (o.demo) c.demo = true;
   if (auto e = c.Validate()) {
     std::cerr << "error: " << e->ToString() << "\n";
     return 2;
@@ -44,6 +48,11 @@ Runner AddServe(CLI::App& app) {
   sub->add_option("--host", o->host, "Address to listen on (default 127.0.0.1)");
   sub->add_option("--config", o->config_file, "JSON configuration file");
   sub->add_option("--config-dir", o->config_dir, "Configuration directory (domains)");
+  sub->add_option("--data-dir", o->data_dir, "Directory of the SQLite session store (default ./data)");
+  sub->add_option("--session-store", o->session_store,
+                  "Session store: sqlite (default) or redis://host:port/db (for several replicas)");
+  sub->add_flag("--demo", o->demo,
+                "Answer /plan and /translate from the shipped recordings when no LLM is configured");
   return [o, sub]() { return sub->parsed() ? RunServe(*o) : -1; };
 }
 

@@ -13,13 +13,7 @@ struct TranslateCliOptions {
   std::string domain, command, prompting = "cot", config_dir;
 };
 
-int ExitCode(ErrorCode c) {
-  switch (c) {
-    case ErrorCode::kInvalidInput: return 1;
-    case ErrorCode::kUnprocessable: return 4;
-    default: return 3;  // endpoint missing, unreachable, timed out, failed
-  }
-}
+int ExitCode(ErrorCode c) { return ExitCodeFor(c); }
 
 int RunTranslate(const TranslateCliOptions& o) {
   auto fail = [](const Error& e) {

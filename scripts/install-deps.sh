@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package ctburton needs to build and run. Idempotent.
-#   --test   also what the tests need: Chromium and Node.js for the browser test, python3-jsonschema
-#            for the schema check.
+#   --test   also what the tests need: Chromium and Node.js for the browser test; redis-server and
+#            nginx for the replica test; python3-jsonschema to check answers against the OpenAPI
+#            document.
 # The same list is used by docker/Dockerfile (keep them in step).
 set -euo pipefail
 PACKAGES=(
@@ -10,9 +11,10 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   minizinc libgecode-dev
   libcurl4-openssl-dev libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
+  libsqlite3-dev libhiredis-dev
 )
 if [ "${1:-}" = "--test" ]; then
-  PACKAGES+=(chromium python3-jsonschema)
+  PACKAGES+=(chromium redis-server nginx python3-jsonschema)
   command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 fi
 missing=()

@@ -7,6 +7,7 @@
 
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
+#include "server/budget.h"
 #include "translator/llm.h"
 
 namespace ctb::server {
@@ -20,13 +21,22 @@ struct ServerConfig {
   std::string minizinc = "minizinc";
   std::string recordings_dir;      // answers /plan and /translate when no LLM is configured
   long max_body_bytes = 1 << 20;   // 413 beyond
-  int read_timeout_s = 10;
+  int read_timeout_s = 5;          // a request head must arrive within this (slow clients: 408)
+  int body_timeout_s = 10;         // and its body within this after the head
+  int keep_alive_s = 5;            // an idle keep-alive connection is closed after this
   int write_timeout_s = 60;
+  int max_connections = 128;       // at once; beyond: 503 at once (the pool has 16 threads more)
+  int max_connections_per_address = 32;
+  long solver_memory_mb = 2048;    // RLIMIT_AS of each solver process (0: none)
+  ModelBudget budget;              // the model-size budget of one request (server/budget.h)
   int solver_workers = 2;          // solves at once
   int solver_queue = 8;            // solves waiting; beyond: 503 with Retry-After
   long default_time_limit_ms = 30000;
   long max_time_limit_ms = 60000;  // a request's time_limit_ms is capped to this
   int max_horizon_limit = 64;
+  std::string data_dir = "./data";  // the SQLite session store (sessions.db)
+  std::string session_store;        // "" / "sqlite", or "redis://host:port/db"
+  bool demo = false;                // answer /plan and /translate from recordings_dir without an LLM
   int max_sessions = 1000;
   int session_idle_s = 1800;
   int shutdown_grace_ms = 5000;    // in-flight work gets this long, then is cancelled

@@ -8,11 +8,19 @@ namespace ctb::server {
 
 namespace {
 
-// "0100007F:1F90" -> 0x1F90
+// "0100007F:1F90" -> 0x1F90; -1 for anything else. Never throws: it runs in a watcher thread,
+// where an exception would terminate the server.
 int PortOf(const std::string& addr) {
   auto colon = addr.rfind(':');
-  if (colon == std::string::npos) return -1;
-  return static_cast<int>(std::stol(addr.substr(colon + 1), nullptr, 16));
+  if (colon == std::string::npos || colon + 1 >= addr.size() || addr.size() - colon - 1 > 4) return -1;
+  int port = 0;
+  for (std::size_t i = colon + 1; i < addr.size(); ++i) {
+    const char c = addr[i];
+    int v = c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10 : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+    if (v < 0) return -1;
+    port = port * 16 + v;
+  }
+  return port;
 }
 
 // 1: established, 0: listed in another state, -1: not listed.

@@ -9,17 +9,22 @@
 #include <condition_variable>
 #include <map>
 #include <mutex>
-#include <random>
 #include <thread>
 
 #include "planner/explain/explain.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/runner.h"
 #include "planner/solve/solve.h"
+#include "server/budget.h"
 #include "server/conn_watch.h"
+#include "server/session_doc.h"
+#include "server/session_store.h"
+#include "server/ids.h"
+#include "server/limits.h"
 #include "server/log_context.h"
 #include "server/metrics.h"
 #include "server/stream.h"
+#include "server/openapi_json.h"
 #include "translator/pipeline.h"
 #include "translator/text.h"
 
@@ -28,18 +33,6 @@ namespace ctb::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string RandomHex(int bytes) {
-  static thread_local std::mt19937_64 rng(std::random_device{}());
-  std::string s;
-  const char* hex = "0123456789abcdef";
-  for (int i = 0; i < bytes; ++i) {
-    auto b = rng() & 0xff;
-    s += hex[b >> 4];
-    s += hex[b & 15];
-  }
-  return s;
-}
 
 bool SaneRequestId(const std::string& id) {
   if (id.empty() || id.size() > 64) return false;
@@ -84,12 +77,6 @@ class JobGate {
   Metrics& m_;
 };
 
-struct Session {
-  std::string domain;
-  std::vector<ChatMessage> conversation;
-  Json state_plan;
-  Clock::time_point last_used;
-};
 
 class Service {
  public:
@@ -98,6 +85,21 @@ class Service {
 
   int Run() {
     if (!LoadDomains()) return 2;
+    {
+      SessionStoreConfig sc{cfg_.session_store, cfg_.data_dir, cfg_.max_sessions, cfg_.session_idle_s};
+      auto store = OpenSessionStore(sc);
+      if (auto* e = std::get_if<Error>(&store)) {
+        spdlog::error("{}", Json(fmt::format("session store: {}", e->message)).dump(-1, ' ', false, Json::error_handler_t::replace));
+        return 2;
+      }
+      sessions_ = std::move(std::get<std::unique_ptr<SessionStore>>(store));
+    }
+    if (cfg_.demo && cfg_.llm.base_url.empty() && cfg_.llm.replay_dir.empty()) {
+      auto replay = MakeReplayClient(cfg_.recordings_dir, cfg_.llm.model);
+      if (auto* c = std::get_if<std::unique_ptr<LlmClient>>(&replay)) demo_llm_ = std::move(*c);
+      else spdlog::warn("{}", Json(fmt::format("--demo: no recordings in '{}'", cfg_.recordings_dir)).dump(-1, ' ', false, Json::error_handler_t::replace));
+    }
+    SetSolverMemoryLimitMb(cfg_.solver_memory_mb);
     ready_ = MiniZincAvailable(cfg_.minizinc);
     if (!ready_) spdlog::warn("{}", Json(fmt::format("minizinc is not runnable: /readyz answers 503 and /solve fails")).dump(-1, ' ', false, Json::error_handler_t::replace));
     Routes();
@@ -112,6 +114,8 @@ class Service {
       spdlog::error("{}", Json(fmt::format("cannot listen on {}:{}", cfg_.host, cfg_.port)).dump(-1, ' ', false, Json::error_handler_t::replace));
       return 2;
     }
+    if (!svr_.RaiseBacklog())
+      spdlog::warn("{}", Json("cannot raise the listen backlog; bursts of connections may wait").dump());
     spdlog::info("{}", Json({{"event", "listening"}, {"host", cfg_.host}, {"port", port},
                              {"config", cfg_.ToLogJson()}}).dump());
     std::thread signals([this, set] {
@@ -147,6 +151,11 @@ class Service {
         return false;
       }
       std::string name = dom->name;
+      if (domains_.count(name)) {
+        spdlog::error("{}", Json(fmt::format("domain file {} repeats the domain name '{}' of another file",
+                                             f.path().string(), name)).dump(-1, ' ', false, Json::error_handler_t::replace));
+        return false;
+      }
       domains_.emplace(name, std::move(*dom));
     }
     return !domains_.empty();
@@ -158,8 +167,10 @@ class Service {
     // Text from an LLM or an upstream error may hold invalid UTF-8: replaced, never thrown.
     res.set_content(j.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
   }
-  static void SendError(httplib::Response& res, const Error& e) {
+  static void SendError(httplib::Response& res, const Error& e, const Json& limit = nullptr) {
     Json err = {{"code", CodeName(e.code)}, {"message", e.message}};
+    if (!limit.is_null()) err["limit"] = limit;
+    if (const std::string rid = res.get_header_value("X-Request-Id"); !rid.empty()) err["request_id"] = rid;
     if (!e.details.empty()) {
       err["path"] = e.details[0].pointer.empty() ? "/" : e.details[0].pointer;
       Json details = Json::array();
@@ -202,6 +213,21 @@ class Service {
   }
 
   std::optional<Json> Body(const httplib::Request& req, httplib::Response& res) {
+    // Before the JSON parser: its messages quote the input, and bytes that are not UTF-8 could
+    // not be sent back. A NUL is never part of a JSON text (a parser reading C strings would stop
+    // there and accept whatever came before).
+    if (auto at = InvalidUtf8Offset(req.body)) {
+      Error e{ErrorCode::kInvalidInput, "request body is not valid UTF-8 (byte offset " + std::to_string(*at) + ")",
+              {{"/", *at, "invalid UTF-8 at byte offset " + std::to_string(*at)}}};
+      SendError(res, e);
+      return std::nullopt;
+    }
+    if (auto nul = req.body.find('\0'); nul != std::string::npos) {
+      Error e{ErrorCode::kInvalidInput, "request body contains a NUL byte (byte offset " + std::to_string(nul) + ")",
+              {{"/", nul, "NUL byte at byte offset " + std::to_string(nul)}}};
+      SendError(res, e);
+      return std::nullopt;
+    }
     Diagnostics d;
     ParseLimits limits;
     limits.max_bytes = static_cast<std::size_t>(cfg_.max_body_bytes);
@@ -218,16 +244,21 @@ class Service {
   }
 
   // Domain from "domain" (a name) or "action_model" (inline JSON).
-  std::variant<std::shared_ptr<const Domain>, Error> ResolveDomain(const Json& body) {
+  // Over the model budget: a kTooLarge Error, and `limit` set to the limit's description.
+  std::variant<std::shared_ptr<const Domain>, Error> ResolveDomain(const Json& body, Json& limit) {
     bool has_name = body.contains("domain"), has_model = body.contains("action_model");
     if (has_name == has_model) return Bad("give exactly one of \"domain\" and \"action_model\"", "/domain");
     if (has_name) {
       if (!body["domain"].is_string()) return Bad("\"domain\" must be a string", "/domain");
       auto it = domains_.find(body["domain"].get<std::string>());
       if (it == domains_.end())
-        return Error{ErrorCode::kNotFound, "unknown domain '" + body["domain"].get<std::string>() + "'",
+        return Error{ErrorCode::kNotFound, "unknown domain '" + Echo(body["domain"].get<std::string>()) + "'",
                      {{"/domain", std::nullopt, "see GET /domains"}}};
       return std::shared_ptr<const Domain>(std::shared_ptr<const Domain>(), &it->second);
+    }
+    if (auto over = CheckActionModel(body["action_model"], cfg_.budget, "/action_model")) {
+      limit = over->ToJson();
+      return over->error;
     }
     Diagnostics d, prefixed;
     auto dom = LoadDomain(body["action_model"], d);
@@ -280,25 +311,49 @@ class Service {
     const std::string request_id = ThreadRequestId();  // the sanitized one, set by Wrap()
     StreamStage("solving");
     o.on_progress = StreamSolutionReporter();
-    std::thread watch([&] {
-      while (!done) {
-        if (cancel_ || !ClientConnected(req.local_port, req.remote_port)) {
-          if (!cancel_) {
-            SetThreadRequestId(request_id);
-            spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", req.remote_port}}).dump());
+    const int local_port = req.local_port, remote_port = req.remote_port;
+    // The watcher never throws (a throw in a thread terminates the process), and is stopped and
+    // joined, and the slot released, however the solve ends: by a result or by an exception.
+    std::thread watch([this, &job_cancel, &done, request_id, local_port, remote_port]() noexcept {
+      try {
+        while (!done) {
+          if (cancel_ || !ClientConnected(local_port, remote_port)) {
+            if (!cancel_) {
+              SetThreadRequestId(request_id);
+              spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", remote_port}}).dump());
+            }
+            job_cancel = true;
+            return;
           }
-          job_cancel = true;
-          return;
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
         }
-        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      } catch (...) {
+        job_cancel = true;
       }
     });
-    auto r = Solve(d, sp, o);
-    if (auto* j = std::get_if<Json>(&r)) AnnotateAnswer(d, sp, o, *j);  // summary, explanation
-    done = true;
-    watch.join();
-    gate_.Leave();
-    return r;
+    struct Finish {
+      std::atomic<bool>& done;
+      std::thread& watch;
+      JobGate& gate;
+      ~Finish() {
+        done = true;
+        if (watch.joinable()) watch.join();
+        gate.Leave();
+      }
+    } finish{done, watch, gate_};
+    try {
+      auto r = Solve(d, sp, o);
+      if (auto* j = std::get_if<Json>(&r)) AnnotateAnswer(d, sp, o, *j);  // summary, explanation
+      return r;
+    } catch (const std::bad_alloc&) {
+      spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", "out of memory"}}).dump());
+      return Error{ErrorCode::kUnavailable, "the server ran out of memory for this solve; retry later "
+                                           "with a smaller model (request id " + request_id + ")", {}};
+    } catch (const std::exception& e) {
+      spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", e.what()}})
+                              .dump(-1, ' ', false, Json::error_handler_t::replace));
+      return Error{ErrorCode::kInternal, "the solve failed (request id " + request_id + ")", {}};
+    }
   }
 
   std::variant<StatePlan, Error> CheckPlan(const Json& j, const Domain& d, const std::string& prefix) {
@@ -315,10 +370,14 @@ class Service {
     Diagnostics d;
     ObjectReader(*body, "", d).CheckKeys({"domain", "action_model", "state_plan", "options"});
     if (!d.ok()) return SendError(res, Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid request", d));
-    auto dom = ResolveDomain(*body);
-    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+    Json limit;
+    auto dom = ResolveDomain(*body, limit);
+    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e, limit);
     const Domain& domain = *std::get<std::shared_ptr<const Domain>>(dom);
     if (!body->contains("state_plan")) return SendError(res, Bad("missing \"state_plan\"", "/state_plan"));
+    const long model_strings = body->contains("action_model") ? StringBytes((*body)["action_model"]) : 0;
+    if (auto over = CheckStatePlan((*body)["state_plan"], cfg_.budget, "/state_plan", model_strings))
+      return SendError(res, over->error, over->ToJson());
     auto sp = CheckPlan((*body)["state_plan"], domain, "/state_plan");
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
     auto opts = Options(*body);
@@ -328,18 +387,28 @@ class Service {
     SendJson(res, 200, std::get<Json>(r));
   }
 
-  // The LLM: the configured endpoint, else the shipped recordings.
+  // The LLM: the configured endpoint; else, with --demo, the recordings (loaded once at start).
   std::variant<std::unique_ptr<LlmClient>, Error> Llm() {
     LlmConfig c = cfg_.llm;
     if (c.base_url.empty() && c.replay_dir.empty()) {
-      auto replay = MakeReplayClient(cfg_.recordings_dir, c.model);
-      if (std::holds_alternative<Error>(replay))
+      if (!demo_llm_)
         return Error{ErrorCode::kUnavailable, "no LLM endpoint configured: set CTB_LLM_BASE_URL, "
-                                              "CTB_LLM_API_KEY and CTB_LLM_MODEL", {}};
-      return replay;
+                                              "CTB_LLM_API_KEY and CTB_LLM_MODEL (or start with --demo)", {}};
+      return std::unique_ptr<LlmClient>(std::make_unique<SharedLlm>(demo_llm_));
     }
     return MakeClient(c);
   }
+  // A per-request handle on the one demo client (LlmClient::Complete is thread-safe).
+  class SharedLlm : public LlmClient {
+   public:
+    explicit SharedLlm(std::shared_ptr<LlmClient> c) : c_(std::move(c)) {}
+    std::variant<ChatResponse, Error> Complete(const ChatRequest& req) override { return c_->Complete(req); }
+    std::string model() const override { return c_->model(); }
+    int attempts() const override { return c_->attempts(); }
+
+   private:
+    std::shared_ptr<LlmClient> c_;
+  };
 
   struct Translated {
     TranslateResult result;
@@ -347,7 +416,8 @@ class Service {
   };
 
   std::variant<Translated, Error> DoTranslate(const Json& body, const Session* session) {
-    auto dom = ResolveDomain(body);
+    Json limit;
+    auto dom = ResolveDomain(body, limit);
     if (auto* e = std::get_if<Error>(&dom)) return *e;
     if (!body.contains("command") || !body["command"].is_string())
       return Bad("\"command\" must be a string", "/command");
@@ -394,63 +464,104 @@ class Service {
     SendJson(res, 200, out);
   }
 
+  static void SendConflict(httplib::Response& res, const std::string& message) {
+    Json err = {{"code", "conflict"}, {"message", message}, {"path", "/session"}};
+    if (const std::string rid = res.get_header_value("X-Request-Id"); !rid.empty()) err["request_id"] = rid;
+    SendJson(res, 409, {{"error", err}});
+  }
+  static Error StoreFailed() { return {ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
+
   void HandlePlan(const httplib::Request& req, httplib::Response& res) {
     auto body = Body(req, res);
     if (!body) return;
     Diagnostics d;
     ObjectReader(*body, "", d).CheckKeys({"domain", "command", "prompting", "session", "options"});
     if (!d.ok()) return SendError(res, Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid request", d));
+    // Everything cheap is checked before any LLM call or solve: the session (or the cap on new
+    // ones) and the options.
+    std::optional<StoredSession> stored;
     std::optional<Session> session;
-    std::string id;
     if (body->contains("session")) {
       if (!(*body)["session"].is_string()) return SendError(res, Bad("\"session\" must be a string", "/session"));
-      id = (*body)["session"];
-      std::lock_guard<std::mutex> lock(sessions_mu_);
-      ExpireSessions();
-      auto it = sessions_.find(id);
-      if (it == sessions_.end())
-        return SendError(res, {ErrorCode::kNotFound, "unknown or expired session '" + id + "'",
+      const std::string id = (*body)["session"];
+      auto got = sessions_->Get(id);
+      if (auto* e = std::get_if<Error>(&got)) return SendError(res, *e);
+      stored = std::get<std::optional<StoredSession>>(got);
+      if (!stored)
+        return SendError(res, {ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'",
                                {{"/session", std::nullopt, "start a new dialogue without \"session\""}}});
-      session = it->second;
+      session = SessionFromDoc(stored->doc);
       if (body->contains("domain") && (*body)["domain"] != session->domain)
         return SendError(res, Bad("a session keeps its domain", "/domain"));
       (*body)["domain"] = session->domain;
+    } else {
+      const long n = sessions_->Count();
+      if (n < 0) return SendError(res, StoreFailed());
+      if (n >= cfg_.max_sessions) return SendError(res, {ErrorCode::kBusy, "too many open sessions; retry later", {}});
     }
+    auto opts = Options(*body);
+    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
     auto t = DoTranslate(*body, session ? &*session : nullptr);
     if (auto* e = std::get_if<Error>(&t)) return SendError(res, *e);
     auto& tr = std::get<Translated>(t);
     auto sp = CheckPlan(tr.result.state_plan, *tr.domain, "/state_plan");
     if (auto* e = std::get_if<Error>(&sp)) return SendError(res, *e);
-    auto opts = Options(*body);
-    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
     auto solved = SolveGated(*tr.domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), req);
     if (auto* e = std::get_if<Error>(&solved)) return SendError(res, *e);
-    {
-      std::lock_guard<std::mutex> lock(sessions_mu_);
-      ExpireSessions();
-      if (id.empty()) {
-        if (static_cast<int>(sessions_.size()) >= cfg_.max_sessions)
-          return SendError(res, {ErrorCode::kBusy, "too many open sessions; retry later", {}});
-        id = RandomHex(16);
+    const Json& trajectory = std::get<Json>(solved);
+    const Json turn = TurnRecord((*body)["command"], tr.result.reasoning, tr.result.state_plan, trajectory);
+    auto conversation = tr.result.conversation;
+    if (auto note = DialogueNote(trajectory); !note.empty())
+      conversation.push_back({"assistant", note});  // the next turn knows why it failed
+    std::string id;
+    if (stored) {
+      UpdateSessionDoc(stored->doc, conversation, tr.result.state_plan, turn);
+      switch (sessions_->Update(*stored)) {
+        case StoreResult::kOk: break;
+        case StoreResult::kConflict:
+          return SendConflict(res, "another turn of this session was stored while this one was planned; "
+                                   "reload the session (GET /sessions/{id}) and send the command again");
+        case StoreResult::kNotFound:
+          return SendError(res, {ErrorCode::kNotFound, "the session expired or was deleted during this turn",
+                                 {{"/session", std::nullopt, "start a new dialogue without \"session\""}}});
+        default: return SendError(res, StoreFailed());
       }
-      Session& s = sessions_[id];
-      s.domain = tr.domain->name;
-      s.conversation = tr.result.conversation;
-      if (auto note = DialogueNote(std::get<Json>(solved)); !note.empty())
-        s.conversation.push_back({"assistant", note});  // the next turn knows why it failed
-      s.state_plan = tr.result.state_plan;
-      s.last_used = Clock::now();
+      id = stored->id;
+    } else {
+      StoredSession fresh;
+      fresh.id = RandomHex(16);
+      fresh.doc = NewSessionDoc(tr.domain->name);
+      UpdateSessionDoc(fresh.doc, conversation, tr.result.state_plan, turn);
+      switch (sessions_->Create(fresh)) {
+        case StoreResult::kOk: break;
+        case StoreResult::kFull: return SendError(res, {ErrorCode::kBusy, "too many open sessions; retry later", {}});
+        default: return SendError(res, StoreFailed());
+      }
+      id = fresh.id;
     }
     Json out = {{"state_plan", tr.result.state_plan}, {"reasoning", tr.result.reasoning},
-                {"trajectory", std::get<Json>(solved)}, {"session", id}};
+                {"trajectory", trajectory}, {"session", id}};
     if (!tr.result.warnings.empty()) out["warnings"] = WarningsJson(tr.result.warnings);
     SendJson(res, 200, out);
   }
 
-  void ExpireSessions() {
-    auto now = Clock::now();
-    for (auto it = sessions_.begin(); it != sessions_.end();)
-      it = now - it->second.last_used > std::chrono::seconds(cfg_.session_idle_s) ? sessions_.erase(it) : std::next(it);
+  void HandleGetSession(const httplib::Request& req, httplib::Response& res) {
+    const std::string id = req.matches[1];
+    auto got = sessions_->Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return SendError(res, *e);
+    const auto& stored = std::get<std::optional<StoredSession>>(got);
+    if (!stored) return SendError(res, {ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'", {}});
+    SendJson(res, 200, SessionView(*stored));
+  }
+
+  void HandleDeleteSession(const httplib::Request& req, httplib::Response& res) {
+    const std::string id = req.matches[1];
+    switch (sessions_->Delete(id)) {
+      case StoreResult::kOk: res.status = 204; return;
+      case StoreResult::kNotFound:
+        return SendError(res, {ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'", {}});
+      default: return SendError(res, StoreFailed());
+    }
   }
 
   void Routes() {
@@ -458,7 +569,18 @@ class Service {
     svr_.set_read_timeout(cfg_.read_timeout_s, 0);
     svr_.set_write_timeout(cfg_.write_timeout_s, 0);
     svr_.set_payload_max_length(static_cast<std::size_t>(cfg_.max_body_bytes));
-    const int threads = cfg_.solver_workers + cfg_.solver_queue + 8;
+    // Connections are admitted, timed and checked by GuardedServer (server/limits.h). The pool has
+    // more threads than admitted connections, so a refusal or /healthz never waits for a thread.
+    ConnectionLimits limits;
+    limits.per_address = cfg_.max_connections_per_address;
+    limits.total = cfg_.max_connections;
+    limits.head_timeout_ms = cfg_.read_timeout_s * 1000L;
+    limits.body_timeout_ms = cfg_.body_timeout_s * 1000L;
+    limits.keep_alive_ms = cfg_.keep_alive_s * 1000L;
+    limits.max_body_bytes = cfg_.max_body_bytes;
+    svr_.SetLimits(limits);
+    svr_.set_keep_alive_timeout(cfg_.keep_alive_s);
+    const int threads = cfg_.max_connections + 16;
     svr_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
     svr_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
       std::string id = req.get_header_value("X-Request-Id");
@@ -480,6 +602,11 @@ class Service {
     });
     svr_.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       if (!res.body.empty()) return;
+      if (res.status == 414) {  // normally refused earlier, by GuardedServer
+        res.set_content(Json({{"error", {{"code", "uri_too_long"}, {"message", "request line too long"}}}}).dump(),
+                        "application/json");
+        return;
+      }
       Error e{ErrorCode::kNotFound, "no such route", {}};
       if (res.status == 413) e = {ErrorCode::kTooLarge, "request body too large", {}};
       else if (res.status == 400) e = {ErrorCode::kInvalidInput, "malformed request", {}};
@@ -509,11 +636,19 @@ class Service {
       if (it == domains_.end()) return SendError(s, {ErrorCode::kNotFound, "unknown domain", {}});
       SendJson(s, 200, DomainToJson(it->second));
     }));
-    // For the web page: which LLM answers (an endpoint, a replay directory, or the shipped
-    // recordings when none is configured).
+    svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) { HandleGetSession(q, s); }));
+    svr_.Delete(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) { HandleDeleteSession(q, s); }));
+    svr_.Get("/openapi.json", Wrap("/openapi.json", [](auto&, auto& s) {
+      s.set_content(kOpenApiJson, sizeof kOpenApiJson - 1, "application/json");
+    }));
+    // For the web page: which LLM answers (an endpoint, a replay directory, the shipped
+    // recordings with --demo, or none).
     svr_.Get("/info", Wrap("/info", [this](auto&, auto& s) {
       const LlmConfig& l = cfg_.llm;
-      const char* mode = !l.replay_dir.empty() ? "replay" : !l.base_url.empty() ? "endpoint" : "recordings";
+      const char* mode = !l.replay_dir.empty() ? "replay"
+                         : !l.base_url.empty() ? "endpoint"
+                         : demo_llm_           ? "recordings"
+                                               : "none";
       SendJson(s, 200, {{"llm", {{"mode", mode}, {"model", l.model}}}});
     }));
     svr_.Get("/healthz", Wrap("/healthz", [](auto&, auto& s) { SendJson(s, 200, {{"status", "ok"}}); }));
@@ -523,19 +658,32 @@ class Service {
       SendJson(s, 200, {{"status", "ready"}});
     }));
     svr_.Get("/metrics", Wrap("/metrics", [this](auto&, auto& s) {
-      s.set_content(metrics_.Render(), "text/plain; version=0.0.4");
+      std::string text = metrics_.Render();
+      text += "# HELP ctb_connections_open Connections being served.\n# TYPE ctb_connections_open gauge\n"
+              "ctb_connections_open " + std::to_string(svr_.open_connections()) + "\n"
+              "# HELP ctb_connections_refused_total Connections refused over the per-address or total cap.\n"
+              "# TYPE ctb_connections_refused_total counter\n"
+              "ctb_connections_refused_total " + std::to_string(svr_.refused_connections()) + "\n"
+              "# HELP ctb_requests_timed_out_total Requests whose head or body did not arrive in time.\n"
+              "# TYPE ctb_requests_timed_out_total counter\n"
+              "ctb_requests_timed_out_total " + std::to_string(svr_.timed_out_requests()) + "\n";
+      s.set_content(text, "text/plain; version=0.0.4");
     }));
+    // Static files (the page) are served by httplib's file handler, outside Wrap(): count them.
+    svr_.set_file_request_handler([this](const httplib::Request&, httplib::Response& res) {
+      metrics_.Request("(static)", res.status == -1 ? 200 : res.status, 0);
+    });
     if (!svr_.set_mount_point("/", cfg_.static_dir))
       spdlog::warn("{}", Json(fmt::format("static directory '{}' not found: no web page", cfg_.static_dir)).dump(-1, ' ', false, Json::error_handler_t::replace));
   }
 
   const ServerConfig& cfg_;
-  httplib::Server svr_;
+  GuardedServer svr_;
   Metrics metrics_;
   JobGate gate_;
   std::map<std::string, Domain> domains_;
-  std::mutex sessions_mu_;
-  std::map<std::string, Session> sessions_;
+  std::unique_ptr<SessionStore> sessions_;
+  std::shared_ptr<LlmClient> demo_llm_;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> draining_{false};
   std::atomic<int> in_flight_{0};

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <curl/curl.h>
 
 #include <algorithm>
@@ -58,11 +59,13 @@ long RetryAfterMs(const std::string& v) {
   if (v.empty()) return -1;
   char* end = nullptr;
   long secs = std::strtol(v.c_str(), &end, 10);
-  if (end && *end == '\0' && secs >= 0) return secs * 1000;
+  // A day at most: a huge value (or one strtol clamps to LONG_MAX) must not overflow secs * 1000.
+  constexpr long kMaxSecs = 86400;
+  if (end && *end == '\0' && secs >= 0) return std::min(secs, kMaxSecs) * 1000;
   time_t when = curl_getdate(v.c_str(), nullptr);
   if (when < 0) return -1;
   long diff = static_cast<long>(when - std::time(nullptr));
-  return diff > 0 ? diff * 1000 : 0;
+  return diff > 0 ? std::min(diff, kMaxSecs) * 1000 : 0;
 }
 
 class HttpClient : public LlmClient {

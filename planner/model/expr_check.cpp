@@ -200,9 +200,19 @@ class Checker {
 }  // namespace
 
 std::string NearestName(const std::string& word, const std::vector<std::string>& candidates) {
+  // A suggestion is a courtesy, so its cost is capped (issue 14): none for long words, candidates
+  // whose length alone rules them out are skipped, and at most kMaxCells edit-distance cells per
+  // call (many unknown names against many candidates cost seconds of CPU otherwise).
+  constexpr std::size_t kMaxWord = 64, kMaxCells = 1 << 15;
   std::string best;
+  if (word.size() > kMaxWord) return best;
   std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
+  std::size_t cells = 0;
   for (const auto& c : candidates) {
+    const std::size_t gap = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
+    if (gap >= best_d) continue;
+    cells += (word.size() + 1) * (c.size() + 1);
+    if (cells > kMaxCells) break;
     std::size_t d = EditDistance(word, c);
     if (d < best_d) {
       best_d = d;

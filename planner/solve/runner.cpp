@@ -3,7 +3,9 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <spdlog/spdlog.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +21,13 @@
 extern char** environ;
 
 namespace ctb {
+
+namespace {
+std::atomic<long> g_memory_limit_mb{0};
+}  // namespace
+
+void SetSolverMemoryLimitMb(long mb) { g_memory_limit_mb = mb < 0 ? 0 : mb; }
+long SolverMemoryLimitMb() { return g_memory_limit_mb.load(); }
 
 const char* RunStatusName(RunResult::Status s) {
   switch (s) {
@@ -222,6 +231,9 @@ RunResult RunMiniZinc(const RunRequest& req) {
     r.error = "cannot create pipes for the solver";
     return r;
   }
+  const rlim_t memory_limit = req.memory_limit_mb > 0
+                                 ? static_cast<rlim_t>(req.memory_limit_mb) * 1024 * 1024
+                                 : RLIM_INFINITY;
   pid_t pid = fork();
   if (pid < 0) {
     for (int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) close(fd);
@@ -230,6 +242,10 @@ RunResult RunMiniZinc(const RunRequest& req) {
   }
   if (pid == 0) {  // child: async-signal-safe calls only
     setpgid(0, 0);
+    if (memory_limit != RLIM_INFINITY) {
+      rlimit rl{memory_limit, memory_limit};
+      setrlimit(RLIMIT_AS, &rl);
+    }
     int devnull = open("/dev/null", O_RDONLY);
     if (devnull >= 0) dup2(devnull, 0);
     dup2(out_pipe[1], 1);
@@ -246,7 +262,7 @@ RunResult RunMiniZinc(const RunRequest& req) {
 
   LineHandler lines(r, req, t0);
   const long term_at = req.time_limit_ms + kGraceMs;
-  bool out_open = true, err_open = true, termed = false, exited = false;
+  bool out_open = true, err_open = true, termed = false, exited = false, exited_unsignalled = false;
   long term_time = 0;
   int wstatus = 0;
   char buf[65536];
@@ -265,7 +281,10 @@ RunResult RunMiniZinc(const RunRequest& req) {
     }
     if (!exited) {
       pid_t w = waitpid(pid, &wstatus, WNOHANG);
-      if (w == pid || (w < 0 && errno == ECHILD)) exited = true;
+      if (w == pid || (w < 0 && errno == ECHILD)) {
+        exited = true;
+        exited_unsignalled = w == pid && !termed;
+      }
     }
     if (exited && !out_open && !err_open) break;
     if (exited && termed && now >= term_time + 2 * kTermMs) break;  // pipes held by orphans
@@ -321,6 +340,32 @@ RunResult RunMiniZinc(const RunRequest& req) {
 
   const bool cancelled = req.cancel && req.cancel->load();
   const std::string st = lines.status.value_or("");
+  const bool oom = r.solver_stderr.find("bad_alloc") != std::string::npos ||
+                   r.solver_stderr.find("out of memory") != std::string::npos ||
+                   r.solver_stderr.find("Cannot allocate memory") != std::string::npos;
+  if (exited_unsignalled && WIFSIGNALED(wstatus)) {
+    // Killed by someone else (an operator, the OOM killer) or crashed: an error, never "unknown".
+    r.signal = WTERMSIG(wstatus);
+    r.status = RunResult::Status::kError;
+    const char* name = sigabbrev_np(r.signal);
+    r.error = "the solver process was killed by signal " + std::to_string(r.signal) + " (SIG" +
+              (name ? name : "?") + ")";
+    r.out_of_memory = oom;
+    if (oom) r.error += " after running out of memory";
+    spdlog::error("{}", Json({{"event", "solver_crashed"}, {"signal", r.signal},
+                              {"elapsed_ms", r.elapsed_ms}, {"stderr", r.solver_stderr}})
+                            .dump(-1, ' ', false, Json::error_handler_t::replace));
+    return r;
+  }
+  if (oom && r.solutions == 0 && !cancelled) {
+    r.status = RunResult::Status::kError;
+    r.out_of_memory = true;
+    r.error = "the solver ran out of memory (limit " + std::to_string(req.memory_limit_mb) + " MiB)";
+    spdlog::error("{}", Json({{"event", "solver_out_of_memory"}, {"limit_mb", req.memory_limit_mb},
+                              {"elapsed_ms", r.elapsed_ms}})
+                            .dump());
+    return r;
+  }
   if (st == "OPTIMAL_SOLUTION" || st == "ALL_SOLUTIONS") {
     r.status = RunResult::Status::kOptimal;
   } else if (st == "UNSATISFIABLE") {

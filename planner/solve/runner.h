@@ -7,6 +7,11 @@
 // SIGKILL; any process still running in the job's directory (fzn-gecode) is killed too. The
 // child is always reaped and the directory removed. Never throws; an unusable setup is a
 // RunResult with status kError and a clean message. Thread-safe: each call is independent.
+//
+// A child that dies from a signal it was not sent by us (killed by an operator, the OOM killer,
+// a crash) is kError with the signal named, and logged; never kUnknown. The child's address space
+// is capped (RLIMIT_AS, inherited by the solver minizinc starts); running out of it is kError
+// with out_of_memory set.
 #pragma once
 
 #include <atomic>
@@ -17,6 +22,11 @@
 #include "planner/model/json_io.h"
 
 namespace ctb {
+
+// The process-wide default for RunRequest::memory_limit_mb (0: no ceiling; initially 0). The
+// service sets it once at start-up from its configuration. Thread-safe.
+void SetSolverMemoryLimitMb(long mb);
+long SolverMemoryLimitMb();
 
 struct RunRequest {
   std::string model;
@@ -29,6 +39,8 @@ struct RunRequest {
   std::function<void(const Json& solution)> on_solution;
   // Checked every 50 ms; when it becomes true the child is stopped as at the time limit.
   const std::atomic<bool>* cancel = nullptr;
+  // Address-space ceiling of the child in MiB (0: none). Defaults to the process-wide setting.
+  long memory_limit_mb = SolverMemoryLimitMb();
 };
 
 struct RunResult {
@@ -42,6 +54,8 @@ struct RunResult {
   std::string solver_stderr;  // bounded (16 KiB), for logs only
   Json statistics = Json::object();
   bool killed = false;        // the child had to be signalled
+  int signal = 0;             // the signal that ended the child, when not one we sent
+  bool out_of_memory = false; // the child hit its memory ceiling
 };
 
 const char* RunStatusName(RunResult::Status s);

@@ -284,7 +284,11 @@ async function init() {
   $("examples-note").textContent = info?.llm?.mode === "recordings" ? "(answered offline from recordings)" : "";
   let dismissed = false;
   try { dismissed = localStorage.getItem(NOTICE_KEY) === "1"; } catch { /* storage disabled */ }
-  $("llm-notice").hidden = info?.llm?.mode !== "recordings" || dismissed;
+  const noLlm = info?.llm?.mode === "recordings" || info?.llm?.mode === "none";
+  if (info?.llm?.mode === "none")
+    $("llm-notice-text").textContent = "No LLM is configured, and the server was started without --demo: " +
+      "commands need an endpoint. /solve works.";
+  $("llm-notice").hidden = !noLlm || dismissed;
   $("llm-notice-close").addEventListener("click", () => {
     $("llm-notice").hidden = true;
     try { localStorage.setItem(NOTICE_KEY, "1"); } catch { /* storage disabled */ }

@@ -28,7 +28,8 @@ const port = await new Promise((resolve) => {
 const env = { ...process.env, CTB_CONFIG_DIR: `${src}/config`, CTB_PROMPTS_DIR: `${src}/prompts` };
 for (const k of ["CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_API_KEY"]) delete env[k];
 const serverLog = openSync(`${out}/browser-server.log`, "w");
-const server = spawn(bin, ["serve", "--port", String(port)], { cwd: src, env, stdio: ["ignore", "ignore", serverLog] });
+const dataDir = `/tmp/ctb-browser-data-${process.pid}`;
+const server = spawn(bin, ["serve", "--port", String(port), "--demo", "--data-dir", dataDir], { cwd: src, env, stdio: ["ignore", "ignore", serverLog] });
 const base = `http://127.0.0.1:${port}`;
 for (let i = 0; i < 200; i++) {
   try { if ((await fetch(`${base}/healthz`)).ok) break; } catch {}

@@ -65,6 +65,8 @@ class Server {
       for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
       setenv("CTB_CONFIG_DIR", (ctb::testing::SourceDir() + "/config").c_str(), 1);
       setenv("CTB_PROMPTS_DIR", (ctb::testing::SourceDir() + "/prompts").c_str(), 1);
+      // Each server its own session database (the SQLite store), removed by the OS' tmp cleaning.
+      setenv("CTB_DATA_DIR", ("/tmp/ctb-server-test-data-" + std::to_string(getpid()) + "-" + std::to_string(port_)).c_str(), 1);
       std::string port = std::to_string(port_);
       int devnull = open("/dev/null", O_WRONLY);
       dup2(devnull, 1);
@@ -318,7 +320,7 @@ const char* kTp1 =
     "seconds. In addition, the projector should turn on within 60 seconds.";
 
 TEST(Service, PlanAndTranslateFromTheRecordingsWithoutAnLlm) {
-  Server s;
+  Server s({}, {{"demo", true}});  // the recordings answer only behind the demo switch
   auto c = s.Client();
   Json b = {{"domain", "presentation"}, {"command", kTp1}};
   auto t = c.Post("/translate", b.dump(), "application/json");

@@ -1,0 +1,53 @@
+// The model-size budget of one request, checked on the raw JSON before the loader, the checker,
+// the encoder or the solver touch it, so an oversized model costs milliseconds, not gigabytes.
+//
+// What it bounds (each limit in ServerConfig, safe defaults here):
+//  - automata, locations per automaton and in all, transitions;
+//  - the encoder's derived tables: (automata + 1) x (largest automaton's locations + 1)^2 cells;
+//  - episodes + temporal + event constraints (and event endpoints);
+//  - every string (an expression or a name) and all strings together, which also bounds the
+//    "did you mean" work of the checker (unknown names x candidates).
+// Over budget: an Error with code kTooLarge (413) whose detail is the JSON pointer of the part that
+// exceeds the limit, plus the limit's name, value and the actual figure. Never throws; input of the
+// wrong shape is left to the loader to report.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "planner/model/error.h"
+#include "planner/model/json_io.h"
+
+namespace ctb::server {
+
+struct ModelBudget {
+  long max_automata = 64;
+  long max_locations_per_automaton = 256;
+  long max_locations_total = 2048;
+  long max_transitions = 8192;
+  long max_table_cells = 2000000;
+  long max_constraints = 256;
+  long max_string_bytes = 4096;
+  long max_string_total = 65536;
+};
+
+struct BudgetExceeded {
+  Error error;          // kTooLarge, detail pointer = what exceeds the limit
+  std::string limit;    // e.g. "max_locations_per_automaton"
+  long value = 0;       // the limit
+  long actual = 0;      // what the request asked for
+  Json ToJson() const;  // {"name", "value", "actual"}
+};
+
+// `pointer` is where the JSON sits in the request ("/action_model", "/state_plan").
+std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBudget& b,
+                                               const std::string& pointer);
+// `string_total` carries the string bytes already counted (the inline action model's) so the
+// total bound covers both parts of one request.
+std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget& b,
+                                             const std::string& pointer, long string_total = 0);
+
+// String bytes in a JSON value (keys and values), for the caller's running total.
+long StringBytes(const Json& j);
+
+}  // namespace ctb::server

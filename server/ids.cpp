@@ -1,0 +1,61 @@
+#include "server/ids.h"
+
+#include <fcntl.h>
+#include <sys/random.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <vector>
+
+namespace ctb::server {
+
+namespace {
+
+void FillRandom(unsigned char* p, std::size_t n) {
+  std::size_t got = 0;
+  while (got < n) {
+    ssize_t r = getrandom(p + got, n - got, 0);
+    if (r > 0) {
+      got += static_cast<std::size_t>(r);
+    } else if (r < 0 && errno == EINTR) {
+      continue;
+    } else {
+      break;
+    }
+  }
+  if (got == n) return;
+  int fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC);
+  while (fd >= 0 && got < n) {
+    ssize_t r = read(fd, p + got, n - got);
+    if (r <= 0 && errno != EINTR) break;
+    if (r > 0) got += static_cast<std::size_t>(r);
+  }
+  if (fd >= 0) close(fd);
+  if (got != n) std::abort();
+}
+
+}  // namespace
+
+std::string RandomHex(std::size_t bytes) {
+  std::vector<unsigned char> raw(bytes);
+  FillRandom(raw.data(), bytes);
+  static const char* kHex = "0123456789abcdef";
+  std::string s;
+  s.reserve(bytes * 2);
+  for (unsigned char b : raw) {
+    s += kHex[b >> 4];
+    s += kHex[b & 15];
+  }
+  return s;
+}
+
+std::string Echo(const std::string& s, std::size_t max) {
+  if (s.size() <= max) return s;
+  std::size_t cut = max;
+  // Do not split a UTF-8 sequence: back up over continuation bytes.
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
+  return s.substr(0, cut) + "...";
+}
+
+}  // namespace ctb::server

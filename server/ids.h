@@ -1,0 +1,19 @@
+// Identifiers the service hands out (session and request ids) and how it echoes ids it was given.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace ctb::server {
+
+// `bytes` random bytes from the kernel's CSPRNG (getrandom(2)), as lower-case hex. 16 bytes (128
+// bits) for session ids. Blocks only before the kernel's pool is initialised; never throws (on a
+// failing getrandom it reads /dev/urandom, and aborts the process if that fails too: an id that
+// is not random is worse than no service).
+std::string RandomHex(std::size_t bytes = 16);
+
+// A client-supplied string cut to at most `max` bytes (on a UTF-8 boundary) with "..." appended
+// when cut, for echoing in messages: a 1 MB id is never sent back whole.
+std::string Echo(const std::string& s, std::size_t max = 64);
+
+}  // namespace ctb::server

@@ -1,0 +1,215 @@
+// SQLite session store: table sessions(id, version, created_ms, updated_ms, doc), WAL mode, one
+// connection behind a mutex. Expiry and the cap are checked inside one IMMEDIATE transaction, so
+// several processes sharing the file (not recommended; use Redis) still respect them.
+#include <sqlite3.h>
+
+#include <chrono>
+#include <filesystem>
+#include <mutex>
+
+#include "server/session_store.h"
+
+namespace ctb::server {
+
+namespace {
+
+long NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+class Stmt {
+ public:
+  Stmt(sqlite3* db, const char* sql) { sqlite3_prepare_v2(db, sql, -1, &s_, nullptr); }
+  ~Stmt() { sqlite3_finalize(s_); }
+  Stmt(const Stmt&) = delete;
+  Stmt& operator=(const Stmt&) = delete;
+  bool ok() const { return s_ != nullptr; }
+  Stmt& Bind(int i, const std::string& v) {
+    sqlite3_bind_text(s_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  Stmt& Bind(int i, long v) {
+    sqlite3_bind_int64(s_, i, v);
+    return *this;
+  }
+  int Step() { return sqlite3_step(s_); }
+  long Int(int i) { return static_cast<long>(sqlite3_column_int64(s_, i)); }
+  std::string Text(int i) {
+    const auto* t = sqlite3_column_text(s_, i);
+    return t ? std::string(reinterpret_cast<const char*>(t), sqlite3_column_bytes(s_, i)) : std::string();
+  }
+
+ private:
+  sqlite3_stmt* s_ = nullptr;
+};
+
+class SqliteStore : public SessionStore {
+ public:
+  SqliteStore(sqlite3* db, std::string path, long max_sessions, long idle_s)
+      : db_(db), path_(std::move(path)), max_(max_sessions), idle_ms_(idle_s * 1000) {}
+  ~SqliteStore() override { sqlite3_close(db_); }
+
+  std::variant<std::optional<StoredSession>, Error> Get(const std::string& id) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt q(db_, "SELECT version, created_ms, updated_ms, doc FROM sessions WHERE id = ? AND updated_ms >= ?");
+    if (!q.ok()) return Unavailable();
+    q.Bind(1, id).Bind(2, NowMs() - idle_ms_);
+    int rc = q.Step();
+    if (rc == SQLITE_DONE) return std::optional<StoredSession>();
+    if (rc != SQLITE_ROW) return Unavailable();
+    StoredSession s;
+    s.id = id;
+    s.version = q.Int(0);
+    s.created_ms = q.Int(1);
+    s.updated_ms = q.Int(2);
+    s.doc = Json::parse(q.Text(3), nullptr, false);
+    if (s.doc.is_discarded()) return Unavailable();
+    return std::optional<StoredSession>(std::move(s));
+  }
+
+  StoreResult Create(StoredSession& s) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!Exec("BEGIN IMMEDIATE")) return StoreResult::kUnavailable;
+    const long now = NowMs();
+    Expire(now);
+    Stmt count(db_, "SELECT COUNT(*) FROM sessions");
+    if (!count.ok() || count.Step() != SQLITE_ROW) return Rollback();
+    if (count.Int(0) >= max_) {
+      Exec("ROLLBACK");
+      return StoreResult::kFull;
+    }
+    Stmt ins(db_, "INSERT INTO sessions(id, version, created_ms, updated_ms, doc) VALUES (?, 1, ?, ?, ?)");
+    if (!ins.ok()) return Rollback();
+    ins.Bind(1, s.id).Bind(2, now).Bind(3, now).Bind(4, s.doc.dump(-1, ' ', false, Json::error_handler_t::replace));
+    if (ins.Step() != SQLITE_DONE) return Rollback();
+    if (!Exec("COMMIT")) return Rollback();
+    s.version = 1;
+    s.created_ms = s.updated_ms = now;
+    return StoreResult::kOk;
+  }
+
+  StoreResult Update(StoredSession& s) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    const long now = NowMs();
+    Stmt up(db_, "UPDATE sessions SET version = version + 1, updated_ms = ?, doc = ? "
+                 "WHERE id = ? AND version = ? AND updated_ms >= ?");
+    if (!up.ok()) return StoreResult::kUnavailable;
+    up.Bind(1, now).Bind(2, s.doc.dump(-1, ' ', false, Json::error_handler_t::replace)).Bind(3, s.id);
+    up.Bind(4, s.version).Bind(5, now - idle_ms_);
+    if (up.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    if (sqlite3_changes(db_) == 1) {
+      ++s.version;
+      s.updated_ms = now;
+      return StoreResult::kOk;
+    }
+    Stmt exists(db_, "SELECT 1 FROM sessions WHERE id = ? AND updated_ms >= ?");
+    exists.Bind(1, s.id).Bind(2, now - idle_ms_);
+    return exists.ok() && exists.Step() == SQLITE_ROW ? StoreResult::kConflict : StoreResult::kNotFound;
+  }
+
+  StoreResult Delete(const std::string& id) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt del(db_, "DELETE FROM sessions WHERE id = ? AND updated_ms >= ?");
+    if (!del.ok()) return StoreResult::kUnavailable;
+    del.Bind(1, id).Bind(2, NowMs() - idle_ms_);
+    if (del.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    return sqlite3_changes(db_) == 1 ? StoreResult::kOk : StoreResult::kNotFound;
+  }
+
+  long Count() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Expire(NowMs());
+    Stmt count(db_, "SELECT COUNT(*) FROM sessions");
+    if (!count.ok() || count.Step() != SQLITE_ROW) return -1;
+    return count.Int(0);
+  }
+
+  std::string Describe() const override { return "sqlite:" + path_; }
+
+ private:
+  bool Exec(const char* sql) { return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK; }
+  StoreResult Rollback() {
+    Exec("ROLLBACK");
+    return StoreResult::kUnavailable;
+  }
+  void Expire(long now) {
+    Stmt del(db_, "DELETE FROM sessions WHERE updated_ms < ?");
+    if (del.ok()) {
+      del.Bind(1, now - idle_ms_);
+      del.Step();
+    }
+  }
+  static Error Unavailable() { return Error{ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
+
+  std::mutex mu_;
+  sqlite3* db_;
+  std::string path_;
+  long max_, idle_ms_;
+};
+
+}  // namespace
+
+std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_sessions, long idle_s,
+                                              std::string& error) {
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                      nullptr) != SQLITE_OK) {
+    error = "cannot open the session database " + path + ": " + (db ? sqlite3_errmsg(db) : "out of memory");
+    sqlite3_close(db);
+    return nullptr;
+  }
+  sqlite3_busy_timeout(db, 5000);
+  const char* setup =
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
+      "CREATE TABLE IF NOT EXISTS sessions(id TEXT PRIMARY KEY, version INTEGER NOT NULL,"
+      " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);"
+      "CREATE INDEX IF NOT EXISTS sessions_updated ON sessions(updated_ms);";
+  char* msg = nullptr;
+  if (sqlite3_exec(db, setup, nullptr, nullptr, &msg) != SQLITE_OK) {
+    error = "cannot set up the session database " + path + ": " + (msg ? msg : "?");
+    sqlite3_free(msg);
+    sqlite3_close(db);
+    return nullptr;
+  }
+  return std::make_unique<SqliteStore>(db, path, max_sessions, idle_s);
+}
+
+std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c) {
+  std::string error;
+  if (c.url.empty() || c.url == "sqlite") {
+    std::error_code ec;
+    std::filesystem::create_directories(c.data_dir, ec);
+    auto s = OpenSqliteStore(c.data_dir + "/sessions.db", c.max_sessions, c.idle_s, error);
+    if (!s) return Error{ErrorCode::kUnavailable, error, {}};
+    return s;
+  }
+  // redis://host:port/db
+  const std::string prefix = "redis://";
+  if (c.url.rfind(prefix, 0) != 0)
+    return Error{ErrorCode::kInvalidInput, "session store must be \"sqlite\" or redis://host:port/db", {}};
+  std::string rest = c.url.substr(prefix.size());
+  int db = 0;
+  if (auto slash = rest.find('/'); slash != std::string::npos) {
+    const std::string d = rest.substr(slash + 1);
+    if (!d.empty() && (d.size() > 3 || d.find_first_not_of("0123456789") != std::string::npos))
+      return Error{ErrorCode::kInvalidInput, "redis database must be a small number", {}};
+    if (!d.empty()) db = std::stoi(d);
+    rest = rest.substr(0, slash);
+  }
+  int port = 6379;
+  if (auto colon = rest.rfind(':'); colon != std::string::npos) {
+    const std::string p = rest.substr(colon + 1);
+    if (p.empty() || p.size() > 5 || p.find_first_not_of("0123456789") != std::string::npos || std::stoi(p) > 65535)
+      return Error{ErrorCode::kInvalidInput, "redis port must be 1..65535", {}};
+    port = std::stoi(p);
+    rest = rest.substr(0, colon);
+  }
+  if (rest.empty()) rest = "127.0.0.1";
+  auto s = OpenRedisStore(rest, port, db, c.max_sessions, c.idle_s, error);
+  if (!s) return Error{ErrorCode::kUnavailable, error, {}};
+  return s;
+}
+
+}  // namespace ctb::server
