@@ -4,6 +4,7 @@
 #include <map>
 #include <numeric>
 
+#include "planner/expr/expr_print.h"
 #include "planner/expr/normalize.h"
 
 namespace ctb {
@@ -181,6 +182,8 @@ std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
     ssp.goal = TrueCondition(sp.goal.pointer);
     for (int c = 0; c < ng; ++c) {
       if (part(gc(c)) != kk) continue;
+      ssp.goal.text = (ssp.goal.expr.op == Expr::Op::kTrue ? "" : ssp.goal.text + " /\\ ") +
+                      PrintSource(*goal[c]);
       Expr e = *goal[c];
       remap(e);
       if (ssp.goal.expr.op == Expr::Op::kTrue) {

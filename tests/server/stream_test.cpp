@@ -64,7 +64,8 @@ int Connect(int port) {
   return s;
 }
 
-// `ctburton serve` as a child process, no LLM configured (the recordings answer).
+// `ctburton serve --demo` as a child process, no LLM configured (the recordings answer), its
+// sessions in a directory of its own.
 class Server {
  public:
   Server() {
@@ -80,7 +81,9 @@ class Server {
       dup2(devnull, 1);
       dup2(devnull, 2);
       std::string port = std::to_string(port_);
-      execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), nullptr);
+      std::string data = "/tmp/ctb-stream-test-" + std::to_string(getpid());
+      execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), "--demo", "--data-dir",
+            data.c_str(), nullptr);
       _exit(127);
     }
     for (int i = 0; i < 200; ++i) {
