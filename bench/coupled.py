@@ -86,7 +86,7 @@ def problems(tmp, quick):
         load(f"{ex}/presentation/test2_direct.json"), "cost")
     shut = load(f"{ex}/search_rescue/test2.json")
     shut["end_state"]["maintenance_constraint"] = "door1l[i]==closed /\\ door2l[i]==closed"
-    shut["constraints"].setdefault("temporal", {})["RescueWithin30"] = {
+    shut.setdefault("constraints", {}).setdefault("temporal", {})["RescueWithin30"] = {
         "accepting_event1_constraint": "robot1l[i+1]==outside",
         "accepting_event2_constraint": "robot1l[i+1]==rescuedPerson1",
         "lower_bound": 0, "upper_bound": 30}

@@ -202,8 +202,9 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
   if (auto desc = r.String("description", false)) d.description = *desc;
   if (r.Has("time_resolution")) {
     auto res = r.NonNegative("time_resolution", false);
-    if (res && (*res <= 0 || *res > 1)) {
-      diags.Error(r.Child("time_resolution"), "time_resolution must be in (0, 1] seconds");
+    if (res && (*res < 1e-6 || *res > 1)) {
+      // Finer than a microsecond cannot be counted in the solver's integers for any real plan.
+      diags.Error(r.Child("time_resolution"), "time_resolution must be in [0.000001, 1] seconds");
     } else if (res) {
       if (!IsMultiple(1.0, *res))
         diags.Error(r.Child("time_resolution"), "time_resolution must divide one second");

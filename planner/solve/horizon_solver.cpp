@@ -267,8 +267,15 @@ class Solver {
     if (decided && decided->status == RunResult::Status::kError) {
       // The raw solver text goes to the log only, never to clients.
       spdlog::error("{}", Json(fmt::format("solver failure at horizon {}: {}; stderr: {}", h, decided->error,
-                    decided->solver_stderr)).dump());
-      error_ = Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
+                    decided->solver_stderr)).dump(-1, ' ', false, Json::error_handler_t::replace));
+      // A solver that hit its memory ceiling is the service's limit, not a bug: 503, retry
+      // later or with a smaller problem.
+      error_ = decided->out_of_memory
+                   ? Error{ErrorCode::kUnavailable,
+                           "the solver ran out of memory at horizon " + std::to_string(h) +
+                               " (its memory ceiling); try a smaller max_horizon or problem",
+                           {}}
+                   : Error{ErrorCode::kInternal, "solver failure: " + decided->error, {}};
       return Outcome::kUnknown;
     }
     // Keep the best verified solution of any run.

@@ -221,5 +221,27 @@ TEST(Soundness, UnrepresentableCostsAreALocatedError) {
   EXPECT_TRUE(std::holds_alternative<Json>(Solve(p.d, p.sp, cost)));
 }
 
+
+// Issue 14's loader cases: a fine resolution with long durations overflows the ticks (a located
+// 400, not a solver failure); an absurdly fine resolution is refused at load.
+TEST(Soundness, TicksBeyondTheIntegerRangeAreALocatedError) {
+  Json slow = WarmLamp("slow", 10000000);
+  Json dom = {{"name", "fine"}, {"time_resolution", 0.001}, {"automata", {slow}}};
+  Json plan = {{"initial_state", {{"slow", "off"}}},
+               {"end_state", {{"goal_constraint", "slowl[i+1]==on"}}}};
+  Problem p = Load(dom, plan);
+  auto r = Solve(p.d, p.sp, {});
+  ASSERT_TRUE(std::holds_alternative<Error>(r));
+  const Error& e = std::get<Error>(r);
+  EXPECT_EQ(e.code, ErrorCode::kInvalidInput);
+  ASSERT_FALSE(e.details.empty());
+  EXPECT_EQ(e.details[0].pointer, "/automata/0/transitions/1/duration");
+
+  Diagnostics diags;
+  Json tiny = {{"name", "tiny"}, {"time_resolution", 1e-300}, {"automata", {Toggle("lamp")}}};
+  EXPECT_FALSE(LoadDomain(tiny, diags));
+  EXPECT_TRUE(testing::HasError(diags, "/time_resolution", "[0.000001, 1]")) << testing::AllErrors(diags);
+}
+
 }  // namespace
 }  // namespace ctb
