@@ -20,12 +20,17 @@
 
 #include "../planner/test_util.h"
 #include "../translator/mock_llm.h"
+#include "openapi_record.h"
 
 namespace ctb {
 namespace {
 
 using testing::MockLlmServer;
 using testing::MockReply;
+
+// Every answer the tests receive through Server::Client() is checked against server/openapi.json
+// at the end (tests/server/openapi_record.h).
+const auto* const kOpenApi = ::testing::AddGlobalTestEnvironment(new ctb::testing::OpenApiCheck);
 
 // Writing to a socket the server closed must fail, not kill the test binary.
 const bool kIgnoreSigpipe = [] {
@@ -92,8 +97,8 @@ class Server {
       waitpid(pid_, nullptr, 0);
     }
   }
-  httplib::Client Client() const {
-    httplib::Client c("127.0.0.1", port_);
+  ctb::testing::RecordingClient Client() const {
+    ctb::testing::RecordingClient c("127.0.0.1", port_);
     c.set_read_timeout(120, 0);
     return c;
   }
@@ -261,6 +266,7 @@ TEST(Service, OversizedBodiesPlainAndChunked) {
                         },
                         "application/json");
   // Either the refusal arrives, or the server cut the upload short; never a 200.
+  ctb::testing::Record("POST", "/solve", chunked);
   if (chunked) {
     EXPECT_TRUE(chunked->status == 411 || chunked->status == 413) << chunked->status;
   }
