@@ -162,6 +162,16 @@ TEST(Service, HealthReadyDomainsAndThePage) {
   ASSERT_EQ(page->status, 200);
   EXPECT_NE(page->body.find("<title>ctburton</title>"), std::string::npos);
   EXPECT_EQ(c.Get("/app.js")->status, 200);
+  // The rest of what the page loads, /info and /openapi.json: their types and bodies are checked
+  // against server/openapi.json at the end like every other answer.
+  for (const char* f : {"/style.css", "/favicon.ico", "/favicon.svg", "/examples.json", "/nosuch.js"})
+    EXPECT_EQ(c.Get(f)->status, std::string(f) == "/nosuch.js" ? 404 : 200) << f;
+  auto info = c.Get("/info");
+  ASSERT_EQ(info->status, 200);
+  EXPECT_EQ(Json::parse(info->body)["llm"]["mode"], "none");
+  EXPECT_EQ(c.Get("/openapi.json")->status, 200);
+  auto gone = c.Delete("/sessions/0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(gone->status, 404);
 }
 
 TEST(Service, SolveAnswersAVerifiedTrajectory) {
