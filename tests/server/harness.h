@@ -29,6 +29,7 @@
 #include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
+#include "openapi_record.h"
 
 namespace ctb::testing {
 
@@ -98,65 +99,6 @@ inline std::string ReadAll(int s, long ms) {
   }
   return out;
 }
-
-// Every answer a black-box test received, checked at the end of the test binary against
-// server/openapi.json by tests/server/openapi_check.py (see OpenApiCheck below).
-struct RecordedAnswer {
-  std::string method, path, content_type, body;
-  int status = 0;
-};
-inline std::mutex& AnswersMutex() {
-  static std::mutex mu;
-  return mu;
-}
-inline std::vector<RecordedAnswer>& Answers() {
-  static std::vector<RecordedAnswer> all;
-  return all;
-}
-inline void Record(const std::string& method, const std::string& path, int status, const std::string& content_type,
-                   const std::string& body) {
-  if (status == 0) return;
-  std::lock_guard<std::mutex> lock(AnswersMutex());
-  if (Answers().size() < 5000) Answers().push_back({method, path.substr(0, 200), content_type, body.substr(0, 1 << 20), status});
-}
-inline void Record(const std::string& method, const std::string& path, const httplib::Result& r) {
-  if (r) Record(method, path, r->status, r->get_header_value("Content-Type"), r->body);
-}
-
-// Writes the answers as JSON lines and runs the checker; true when every answer conforms.
-inline bool CheckAnswersAgainstOpenApi(std::string* output) {
-  const std::string file = "/tmp/ctb-answers-" + std::to_string(getpid()) + ".jsonl";
-  {
-    std::ofstream out(file);
-    std::lock_guard<std::mutex> lock(AnswersMutex());
-    for (const auto& a : Answers())
-      out << nlohmann::json({{"method", a.method}, {"path", a.path}, {"status", a.status},
-                             {"content_type", a.content_type}, {"body", a.body}})
-                 .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
-          << "\n";
-  }
-  const std::string cmd = "python3 " + SourceDir() + "/tests/server/openapi_check.py " + SourceDir() +
-                          "/server/openapi.json " + file + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return false;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output->append(buf, n);
-  int rc = pclose(p);
-  std::remove(file.c_str());
-  return rc == 0;
-}
-
-// A test environment that checks all recorded answers once the tests are done.
-class OpenApiCheck : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::string out;
-    bool ok = CheckAnswersAgainstOpenApi(&out);
-    EXPECT_TRUE(ok) << "answers that do not match server/openapi.json:\n" << out;
-    std::fprintf(stderr, "openapi check: %s", out.c_str());
-  }
-};
 
 // A raw HTTP exchange on a fresh connection: status (0 when none arrived within ms) and body.
 struct RawAnswer {

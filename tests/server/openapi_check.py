@@ -5,6 +5,9 @@ Usage: openapi_check.py OPENAPI.json ANSWERS.jsonl
 Each line: {"method", "path", "status", "content_type", "body"}. The path is matched against the
 document's path templates; the status must be documented for that operation; a JSON body must
 validate against the schema of that status and media type (JSON Schema 2020-12, python3-jsonschema).
+A text/event-stream body is split into its events; each event's name must be one the media type
+lists in `x-events`, and its data must validate against the schema given there (a last, unfinished
+event, from a client that hung up, is skipped).
 Exit 0 when every answer conforms, 1 otherwise (each problem printed).
 """
 import json
@@ -60,6 +63,43 @@ def main():
             problems += 1
             continue
         checked += 1
+
+        def validate(schema, value, where):
+            schema = json.loads(json.dumps(schema).replace("#/components/schemas/", "#/$defs/"))
+            schema = {"$schema": "https://json-schema.org/draft/2020-12/schema", "$defs": defs, **schema}
+            errors = list(jsonschema.Draft202012Validator(schema).iter_errors(value))
+            for e in errors[:3]:
+                print(f"{where}: {'/'.join(map(str, e.absolute_path))}: {e.message[:200]}")
+            return bool(errors)
+
+        if ctype == "text/event-stream":
+            events = media.get("x-events")
+            if events is None:
+                print(f"{where}: no x-events for the event stream")
+                problems += 1
+                continue
+            frames = a["body"].split("\n\n")
+            bad = False
+            for k, frame in enumerate(frames[:-1]):  # the last is unfinished (or empty)
+                name, data = "message", ""
+                for l in frame.split("\n"):
+                    if l.startswith("event: "):
+                        name = l[7:]
+                    elif l.startswith("data: "):
+                        data += l[6:]
+                if name not in events:
+                    print(f"{where}: event {k} {name!r} not documented ({list(events)})")
+                    bad = True
+                    continue
+                try:
+                    value = json.loads(data)
+                except ValueError as e:
+                    print(f"{where}: event {k} {name!r}: data is not JSON: {e}")
+                    bad = True
+                    continue
+                bad |= validate(events[name], value, f"{where} event {k} {name!r}")
+            problems += bad
+            continue
         if ctype != "application/json":
             continue
         try:
@@ -68,12 +108,7 @@ def main():
             print(f"{where}: body is not JSON: {e}")
             problems += 1
             continue
-        schema = json.loads(json.dumps(media["schema"]).replace("#/components/schemas/", "#/$defs/"))
-        schema = {"$schema": "https://json-schema.org/draft/2020-12/schema", "$defs": defs, **schema}
-        errors = list(jsonschema.Draft202012Validator(schema).iter_errors(body))
-        for e in errors[:3]:
-            print(f"{where}: {'/'.join(map(str, e.absolute_path))}: {e.message[:200]}")
-        problems += bool(errors)
+        problems += validate(media["schema"], body, where)
     print(f"{checked} answers checked, {problems} problems")
     return 1 if problems else 0
 

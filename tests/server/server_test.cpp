@@ -20,12 +20,17 @@
 
 #include "../planner/test_util.h"
 #include "../translator/mock_llm.h"
+#include "openapi_record.h"
 
 namespace ctb {
 namespace {
 
 using testing::MockLlmServer;
 using testing::MockReply;
+
+// Every answer the tests receive through Server::Client() is checked against server/openapi.json
+// at the end (tests/server/openapi_record.h).
+const auto* const kOpenApi = ::testing::AddGlobalTestEnvironment(new ctb::testing::OpenApiCheck);
 
 // Writing to a socket the server closed must fail, not kill the test binary.
 const bool kIgnoreSigpipe = [] {
@@ -92,8 +97,8 @@ class Server {
       waitpid(pid_, nullptr, 0);
     }
   }
-  httplib::Client Client() const {
-    httplib::Client c("127.0.0.1", port_);
+  ctb::testing::RecordingClient Client() const {
+    ctb::testing::RecordingClient c("127.0.0.1", port_);
     c.set_read_timeout(120, 0);
     return c;
   }
@@ -157,6 +162,16 @@ TEST(Service, HealthReadyDomainsAndThePage) {
   ASSERT_EQ(page->status, 200);
   EXPECT_NE(page->body.find("<title>ctburton</title>"), std::string::npos);
   EXPECT_EQ(c.Get("/app.js")->status, 200);
+  // The rest of what the page loads, /info and /openapi.json: their types and bodies are checked
+  // against server/openapi.json at the end like every other answer.
+  for (const char* f : {"/style.css", "/favicon.ico", "/favicon.svg", "/examples.json", "/nosuch.js"})
+    EXPECT_EQ(c.Get(f)->status, std::string(f) == "/nosuch.js" ? 404 : 200) << f;
+  auto info = c.Get("/info");
+  ASSERT_EQ(info->status, 200);
+  EXPECT_EQ(Json::parse(info->body)["llm"]["mode"], "none");
+  EXPECT_EQ(c.Get("/openapi.json")->status, 200);
+  auto gone = c.Delete("/sessions/0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(gone->status, 404);
 }
 
 TEST(Service, SolveAnswersAVerifiedTrajectory) {
@@ -261,6 +276,7 @@ TEST(Service, OversizedBodiesPlainAndChunked) {
                         },
                         "application/json");
   // Either the refusal arrives, or the server cut the upload short; never a 200.
+  ctb::testing::Record("POST", "/solve", chunked);
   if (chunked) {
     EXPECT_TRUE(chunked->status == 411 || chunked->status == 413) << chunked->status;
   }
