@@ -98,18 +98,18 @@ int CheckRange(unsigned first, int count) {
   return loaded;
 }
 
-// 4 x 55 = 220 problems, in shards that ctest runs in parallel.
-TEST(Differential, Seeds0To54) { EXPECT_EQ(CheckRange(0, 55), 55); }
-TEST(Differential, Seeds55To109) { EXPECT_EQ(CheckRange(55, 55), 55); }
-TEST(Differential, Seeds110To164) { EXPECT_EQ(CheckRange(110, 55), 55); }
-TEST(Differential, Seeds165To219) { EXPECT_EQ(CheckRange(165, 55), 55); }
+// 4 x 50 = 200 problems, in shards that ctest runs in parallel.
+TEST(Differential, Seeds0To49) { EXPECT_EQ(CheckRange(0, 50), 50); }
+TEST(Differential, Seeds50To99) { EXPECT_EQ(CheckRange(50, 50), 50); }
+TEST(Differential, Seeds100To149) { EXPECT_EQ(CheckRange(100, 50), 50); }
+TEST(Differential, Seeds150To199) { EXPECT_EQ(CheckRange(150, 50), 50); }
 
 // Seeds given in the environment (CTB_DIFF_SEED, CTB_DIFF_COUNT), for replaying cases by hand
-// or running more; without them, seed 220 (beyond the shards) runs.
+// or running more; without them, seed 200 (beyond the shards) runs.
 TEST(Differential, SeedsFromTheEnvironment) {
   const char* s = std::getenv("CTB_DIFF_SEED");
   const char* n = std::getenv("CTB_DIFF_COUNT");
-  unsigned seed = s ? static_cast<unsigned>(std::strtoul(s, nullptr, 10)) : 220;
+  unsigned seed = s ? static_cast<unsigned>(std::strtoul(s, nullptr, 10)) : 200;
   int count = n ? std::atoi(n) : 1;
   EXPECT_EQ(CheckRange(seed, count), count);
 }
