@@ -120,7 +120,7 @@ TEST(LoadDomain, EachErrorKindIsReportedAtItsPointer) {
       {"controllable wrong type",
        [](Json& j) { j["automata"][0]["transitions"][1]["controllable"] = "yes"; },
        "/automata/0/transitions/1/controllable", "expected a boolean"},
-      {"bad resolution", [](Json& j) { j["time_resolution"] = 0; }, "/time_resolution", "(0, 1]"},
+      {"bad resolution", [](Json& j) { j["time_resolution"] = 0; }, "/time_resolution", "[0.000001, 1]"},
       {"not an object", [](Json& j) { j["automata"][1] = Json::array(); }, "/automata/1",
        "expected an object, got array"},
   };
