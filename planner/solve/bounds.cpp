@@ -37,17 +37,6 @@ std::vector<long> Shortest(const Automaton& a, int from, bool by_time, long tps)
   return dist;
 }
 
-// Positive location atoms of a top-level conjunction: (automaton, location).
-void Required(const Expr& e, std::vector<std::pair<int, int>>& out) {
-  if (e.op == Expr::Op::kAnd) {
-    Required(e.kids[0], out);
-    Required(e.kids[1], out);
-  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
-             e.index.kind != IndexKind::kFixed) {
-    out.emplace_back(e.target, e.value_code);
-  }
-}
-
 // The least cost (or time) for automaton a to go from its initial location through v (if any)
 // to its final location (if any).
 long Through(const Automaton& au, int init, int via, int final_loc, bool by_time, long tps) {
@@ -61,17 +50,36 @@ long Through(const Automaton& au, int init, int via, int final_loc, bool by_time
 
 }  // namespace
 
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
+  if (e.op == Expr::Op::kAnd) {
+    RequiredLocations(e.kids[0], out);
+    RequiredLocations(e.kids[1], out);
+  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
+             e.index.kind != IndexKind::kFixed) {
+    out.emplace_back(e.target, e.value_code);
+  }
+}
+
+bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks) {
+  switch (objective) {
+    case Objective::kCost: return cost <= b.cost;
+    case Objective::kMakespan: return makespan_ticks <= b.makespan_ticks;
+    case Objective::kCostThenMakespan: return cost <= b.cost && makespan_ticks <= b.makespan_ticks;
+  }
+  return false;
+}
+
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   const long tps = std::max(1L, std::lround(1.0 / d.time_resolution));
   const std::size_t na = d.automata.size();
   std::vector<int> final_loc(na, -1);
   std::vector<std::pair<int, int>> goal;
-  if (!sp.goal.info.IsChange()) Required(sp.goal.expr, goal);
+  if (!sp.goal.info.IsChange()) RequiredLocations(sp.goal.expr, goal);
   for (auto [a, loc] : goal) final_loc[a] = loc;
   std::vector<std::vector<int>> visits(na);
   auto add_visits = [&](const Condition& c) {
     std::vector<std::pair<int, int>> v;
-    Required(c.expr, v);
+    RequiredLocations(c.expr, v);
     for (auto [a, loc] : v) visits[a].push_back(loc);
   };
   for (const auto& e : sp.episodes) add_visits(e.accepting);
@@ -98,7 +106,7 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
     // first be entered.
     long start = 0;
     std::vector<std::pair<int, int>> v;
-    if (!e.accepting.info.IsChange()) Required(e.accepting.expr, v);
+    if (!e.accepting.info.IsChange()) RequiredLocations(e.accepting.expr, v);
     for (auto [a, loc] : v) {
       long t = Shortest(d.automata[a], sp.initial[a], true, tps)[loc];
       if (t < kUnreachable) start = std::max(start, t);

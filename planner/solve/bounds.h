@@ -3,6 +3,9 @@
 // plan meets them, and reported as `bound` when the time limit ends a search.
 #pragma once
 
+#include <utility>
+#include <vector>
+
 #include "planner/model/domain.h"
 #include "planner/model/state_plan.h"
 
@@ -18,5 +21,12 @@ struct ObjectiveBounds {
 // costs add up over automata, times do not; an episode lasts at least its lower bound after its
 // location is first entered, and a temporal constraint's lower bound passes before the goal.
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
+
+// True when a plan of this cost and makespan meets the bounds (so no plan is better).
+bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);
+
+// The positive location atoms (automaton, location) of e's top-level conjunction that do not use
+// a fixed stage: the locations a condition needs.
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
 
 }  // namespace ctb

@@ -27,20 +27,6 @@ void Conjuncts(const Expr& e, std::vector<const Expr*>& out) {
   }
 }
 
-// What a sub-tree reads.
-void Reads(const Expr& e, ExprInfo& info) {
-  if (e.op == Expr::Op::kAtom) {
-    switch (e.var_kind) {
-      case VarKind::kLocation: info.locations_read.insert(e.target); break;
-      case VarKind::kCommand: info.commands_read.insert(e.target); break;
-      case VarKind::kEpisodeState: info.episodes_read.insert(e.target); break;
-      case VarKind::kTemporalState: info.temporals_read.insert(e.target); break;
-      default: break;
-    }
-  }
-  for (const auto& k : e.kids) Reads(k, info);
-}
-
 // Renames the automata, episodes and temporal constraints an expression reads to a part's
 // indices.
 struct Remap {
@@ -115,9 +101,7 @@ std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
     link(tc(q), sp.temporals[q].event2.info);
   }
   for (int c = 0; c < ng; ++c) {
-    ExprInfo info;
-    Reads(*goal[c], info);
-    link(gc(c), info);
+    link(gc(c), InfoOf(*goal[c]));
   }
   for (const auto& ev : sp.events)
     for (const auto& x : ev.endpoints) {

@@ -40,17 +40,6 @@ int Distance(const Automaton& a, int from, int to) {
   return -1;
 }
 
-// Locations the goal requires: positive location atoms in its top-level conjunction.
-void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
-  if (e.op == Expr::Op::kAnd) {
-    RequiredLocations(e.kids[0], out);
-    RequiredLocations(e.kids[1], out);
-  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
-             e.index.kind != IndexKind::kFixed) {
-    out.emplace_back(e.target, e.value_code);
-  }
-}
-
 
 }  // namespace
 
@@ -317,13 +306,7 @@ class Solver {
   }
 
   bool MeetsLowerBound(const Plan& p) const {
-    const ObjectiveBounds b = LowerBounds(d_, sp_);
-    switch (objective_) {
-      case Objective::kCost: return p.cost <= b.cost;
-      case Objective::kMakespan: return p.makespan <= b.makespan_ticks;
-      case Objective::kCostThenMakespan: return p.cost <= b.cost && p.makespan <= b.makespan_ticks;
-    }
-    return false;
+    return MeetsLowerBounds(LowerBounds(d_, sp_), objective_, p.cost, p.makespan);
   }
 
   bool Better(const Plan& a, const Plan& b) const { return BetterPlan(objective_, a, b); }

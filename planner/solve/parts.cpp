@@ -63,16 +63,6 @@ std::string CanonicalForm(const Domain& d, const StatePlan& sp, Objective object
 
 namespace {
 
-bool MeetsBound(const SubProblem& part, Objective objective, const Plan& p) {
-  const ObjectiveBounds b = LowerBounds(part.domain, part.plan);
-  switch (objective) {
-    case Objective::kCost: return p.cost <= b.cost;
-    case Objective::kMakespan: return p.makespan <= b.makespan_ticks;
-    case Objective::kCostThenMakespan: return p.cost <= b.cost && p.makespan <= b.makespan_ticks;
-  }
-  return false;
-}
-
 // A part solved on its own runs. An infeasible part is checked against the relaxed runs in which
 // idle events stand for other parts' events. nullopt: the split cannot be shown sound.
 std::optional<Core> SolveAlone(const SubProblem& part, const SolveOptions& po,
@@ -167,7 +157,10 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   for (auto& [key, c] : solved) {
     if (c.status != "optimal") continue;
     if (objective == Objective::kMakespan && c.best->makespan < latest) continue;
-    if (MeetsBound(*first_of[key], objective, *c.best)) continue;
+    const SubProblem& part = *first_of[key];
+    if (MeetsLowerBounds(LowerBounds(part.domain, part.plan), objective, c.best->cost,
+                         c.best->makespan))
+      continue;
     if (!ProveAgainstRelaxedRuns(*first_of[key], po, t0, o.time_limit_ms, c))
       return give_up("a part does better with other parts' events");
     if (c.error) return c;
