@@ -122,8 +122,10 @@ Runner AddSolve(CLI::App& app) {
       ->excludes(h);
   sub->add_option("--threads", o->threads, "Gecode threads")->check(CLI::Range(1, 64));
   sub->add_option("--search", o->search,
-                  "portfolio (default), g_first, tc_first, first_fail, transitions_first, default");
-  sub->add_option("--portfolio", o->portfolio, "Strategies run at once in portfolio mode (1-2)");
+                  "portfolio (default), g_first, tc_first, first_fail, transitions_first, default, "
+                  "z3 (the z3 engine alone)");
+  sub->add_option("--portfolio", o->portfolio, "Members run at once in portfolio mode: 1 g_first, 2 + tc_first, "
+                  "3 + z3");
   sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
   sub->add_flag("--no-reuse", o->no_reuse, "Solve identical parts again (benchmarks)");
   sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");

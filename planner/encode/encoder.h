@@ -55,6 +55,15 @@ struct EncodeOptions {
   bool idle_events = false;
 };
 
+// One model as data rather than text: what Encode() prints, for an engine that builds its own
+// model from the checked trees (planner/smt). Pointers are not owned and must outlive the run.
+struct ModelSpec {
+  const Domain* d = nullptr;
+  const StatePlan* sp = nullptr;
+  const ProblemInfo* info = nullptr;
+  EncodeOptions opts;
+};
+
 struct Encoding {
   std::string model;  // MiniZinc text
   Json data;          // the .json data file

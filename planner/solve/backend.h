@@ -25,7 +25,19 @@ class MiniZincBackend : public SolverBackend {
   RunResult Run(const RunRequest& req) override { return RunMiniZinc(req); }
 };
 
+// z3 in-process (planner/smt): builds the model from req.spec, which it needs (kError without);
+// ignores req.model, req.data and the MiniZinc settings. Reports kOptimal only for a proof at
+// the model's horizon, kInfeasible for unsat; no memory ceiling (req.memory_limit_mb is not
+// applied: z3's limit is process-wide).
+class Z3Backend : public SolverBackend {
+ public:
+  const char* Name() const override { return "z3"; }
+  RunResult Run(const RunRequest& req) override;
+};
+
 // The process-wide MiniZinc backend.
 SolverBackend& DefaultBackend();
+// The process-wide z3 backend.
+SolverBackend& Z3EngineBackend();
 
 }  // namespace ctb

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -159,10 +160,21 @@ class Solver {
     return than->cost * cost_factor + than->makespan * makespan_factor;
   }
 
-  std::vector<std::string> Strategies() const {
-    if (o_.search != "portfolio") return {o_.search};
-    if (o_.portfolio <= 1) return {"g_first"};
-    return {"g_first", "tc_first"};
+  // One member of the portfolio: a search strategy for Gecode, or the z3 engine.
+  struct Member {
+    std::string strategy;  // "z3" for the z3 engine
+    SolverBackend* backend;
+  };
+
+  // search = "z3": z3 alone; a strategy: Gecode with it; "portfolio": the first `portfolio` of
+  // g_first, tc_first, z3.
+  std::vector<Member> Members() const {
+    SolverBackend* gecode = &Backend();
+    if (o_.search == "z3") return {{"z3", &Z3EngineBackend()}};
+    if (o_.search != "portfolio") return {{o_.search, gecode}};
+    std::vector<Member> all = {{"g_first", gecode}, {"tc_first", gecode}, {"z3", &Z3EngineBackend()}};
+    all.resize(std::clamp(o_.portfolio, 1, 3));
+    return all;
   }
 
   static bool Definitive(const RunResult& r) {
@@ -173,26 +185,34 @@ class Solver {
   // Runs every strategy at horizon h at once; the first definitive answer (proof or error)
   // stops the others. Returns the runs in strategy order.
   std::vector<RunResult> RunPortfolio(int h, const std::optional<Plan>& better) {
-    std::vector<std::string> strategies = Strategies();
-    std::vector<RunRequest> reqs(strategies.size());
+    std::vector<Member> members = Members();
+    std::vector<RunRequest> reqs(members.size());
+    std::vector<ModelSpec> specs(members.size());
     std::atomic<bool> stop{false};
     long remaining = o_.time_limit_ms - MsSince(t0_);
-    for (std::size_t i = 0; i < strategies.size(); ++i) {
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      const bool z3 = members[i].strategy == "z3";
       EncodeOptions eo;
       eo.horizon = h;
       eo.objective = objective_;
-      eo.search = strategies[i];
+      eo.search = z3 ? "g_first" : members[i].strategy;
       eo.redundant = o_.redundant;
       eo.better_than = BetterThan(h, better);
       eo.idle_events = o_.idle_events;
-      Encoding enc = Encode(d_, sp_, info_, eo);
-      if (i == 0) {
-        last_model_ = enc.model;
-        last_data_ = enc.data;
-        WriteModelOut();
+      if (i == 0 || !z3) {  // z3 builds its own model; the text is kept for failure reports
+        Encoding enc = Encode(d_, sp_, info_, eo);
+        if (i == 0) {
+          last_model_ = enc.model;
+          last_data_ = enc.data;
+          WriteModelOut();
+        }
+        if (!z3) {
+          reqs[i].model = std::move(enc.model);
+          reqs[i].data = std::move(enc.data);
+        }
       }
-      reqs[i].model = std::move(enc.model);
-      reqs[i].data = std::move(enc.data);
+      specs[i] = ModelSpec{&d_, &sp_, &info_, eo};
+      if (z3) reqs[i].spec = &specs[i];
       reqs[i].time_limit_ms = remaining;
       reqs[i].minizinc = o_.minizinc;
       reqs[i].threads = o_.threads;
@@ -205,7 +225,11 @@ class Solver {
     std::size_t finished = 0;
     const auto started = Clock::now();
     auto launch = [&](std::size_t i) {
-      futures.push_back(std::async(std::launch::async, [this, &reqs, i] { return Backend().Run(reqs[i]); }));
+      futures.push_back(std::async(std::launch::async, [&members, &reqs, i] {
+        RunResult r = members[i].backend->Run(reqs[i]);
+        r.engine = members[i].backend->Name();
+        return r;
+      }));
     };
     launch(0);
     while (finished < futures.size() || futures.size() < reqs.size()) {
@@ -243,6 +267,10 @@ class Solver {
       compile_ms_ += std::lround(r0.statistics["flatTime"].get<double>() * 1000);
     if (r0.statistics.contains("flatIntVars") && r0.statistics["flatIntVars"].is_number())
       variables_ = r0.statistics["flatIntVars"].get<long>() + r0.statistics.value("flatBoolVars", 0L);
+    if (r0.statistics.contains("z3BuildMs")) {
+      compile_ms_ += r0.statistics.value("z3BuildMs", 0L);
+      variables_ = r0.statistics.value("z3Variables", 0L);
+    }
     for (const auto& r : runs)
       if (first_solution_ms_ < 0 && r.first_solution_ms >= 0)
         first_solution_ms_ = started + r.first_solution_ms;
@@ -292,12 +320,14 @@ class Solver {
       if (!best_ || Better(p, *best_)) {
         best_ = p;
         horizon_ = h;
+        if (!decided) AddEngine(engine_, r.engine);
         if (o_.on_progress)
           o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
                           {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
                           {"elapsed_ms", MsSince(t0_)}});
       }
     }
+    if (decided) AddEngine(engine_, decided->engine);
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
                                                                         : Outcome::kInfeasible;
     for (const auto& r : runs)
@@ -342,6 +372,7 @@ class Solver {
     c.compile_ms = compile_ms_;
     c.variables = variables_;
     c.first_solution_ms = first_solution_ms_;
+    c.engine = engine_;
     return c;
   }
   Core Fail() const {
@@ -365,6 +396,7 @@ class Solver {
   long compile_ms_ = 0;
   long variables_ = 0;
   long first_solution_ms_ = -1;
+  std::string engine_;
 };
 
 Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
@@ -377,6 +409,18 @@ Refutation RefuteBetter(const Domain& d, const StatePlan& sp, const SolveOptions
   Refutation r = s.RefuteBetter(than);
   stats = s.Stats();
   return r;
+}
+
+void AddEngine(std::string& engines, const std::string& name) {
+  if (name.empty()) return;
+  std::size_t from = 0;
+  while (from <= engines.size()) {
+    std::size_t to = engines.find('+', from);
+    if (to == std::string::npos) to = engines.size();
+    if (engines.compare(from, to - from, name) == 0) return;
+    from = to + 1;
+  }
+  engines += (engines.empty() ? "" : "+") + name;
 }
 
 bool BetterPlan(Objective objective, const Plan& a, const Plan& b) {

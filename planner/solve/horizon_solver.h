@@ -31,8 +31,13 @@ struct Core {
   long compile_ms = 0;
   long variables = 0;
   long first_solution_ms = -1;
+  // The engine(s) whose runs decided the answer ("gecode", "z3", "gecode+z3"); empty: none ran.
+  std::string engine;
   std::optional<Error> error;
 };
+
+// Adds an engine's name to a "+"-separated list of names, once.
+void AddEngine(std::string& engines, const std::string& name);
 
 enum class Refutation { kRefuted, kBetterExists, kUnknown };
 

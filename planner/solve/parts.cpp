@@ -76,6 +76,7 @@ std::optional<Core> SolveAlone(const SubProblem& part, const SolveOptions& po,
   relaxed.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
   Core r = SolveOneModel(part.domain, part.plan, relaxed);
   c.runs += r.runs;
+  AddEngine(c.engine, r.engine);
   if (r.error) return r;
   if (r.status == "infeasible") return c;
   why = "a part is infeasible alone but not with other parts' events";
@@ -93,6 +94,7 @@ bool ProveAgainstRelaxedRuns(const SubProblem& part, const SolveOptions& po, Clo
   Refutation r = RefuteBetter(part.domain, part.plan, relaxed, *c.best, stats);
   c.runs += stats.runs;
   c.compile_ms += stats.compile_ms;
+  AddEngine(c.engine, stats.engine);
   if (stats.error) {
     c.error = stats.error;
     return true;
@@ -139,6 +141,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
     if (c->error) return c;
     total.runs += c->runs;
     total.compile_ms += c->compile_ms;
+    AddEngine(total.engine, c->engine);
     total.variables += c->variables;
     stats["parts_reused"] = reused;
     if (c->status == "infeasible" || !c->best) {

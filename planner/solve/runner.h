@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "planner/encode/encoder.h"
 #include "planner/model/json_io.h"
 
 namespace ctb {
@@ -41,6 +42,9 @@ struct RunRequest {
   const std::atomic<bool>* cancel = nullptr;
   // Address-space ceiling of the child in MiB (0: none). Defaults to the process-wide setting.
   long memory_limit_mb = SolverMemoryLimitMb();
+  // The same model as data, for engines that build it from the checked trees (z3); MiniZinc
+  // ignores it. Not owned; nullptr when the caller has only text.
+  const ModelSpec* spec = nullptr;
 };
 
 struct RunResult {
@@ -56,6 +60,7 @@ struct RunResult {
   bool killed = false;        // the child had to be signalled
   int signal = 0;             // the signal that ended the child, when not one we sent
   bool out_of_memory = false; // the child hit its memory ceiling
+  std::string engine;         // the backend's Name(), set by the portfolio
 };
 
 const char* RunStatusName(RunResult::Status s);

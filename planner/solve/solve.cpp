@@ -22,7 +22,7 @@ namespace {
 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
-                const char* solver_name) {
+                const std::string& solver_name) {
   const long tps = std::lround(1.0 / d.time_resolution);
   Json out;
   out["status"] = c.status;
@@ -60,7 +60,7 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
     }
   }
   out["verified"] = c.best.has_value();
-  out["stats"] = {{"solver", solver_name},
+  out["stats"] = {{"solver", c.engine.empty() ? solver_name : c.engine},
                   {"compile_ms", c.compile_ms},
                   {"solve_ms", elapsed_ms},
                   {"first_solution_ms", c.first_solution_ms},
@@ -82,13 +82,14 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
     d.Error("/options/time_limit_ms", "time_limit_ms must be between 1 and 3,600,000");
   if (o.threads < 1 || o.threads > 64) d.Error("/options/threads", "threads must be between 1 and 64");
   static const char* const kSearches[] = {"portfolio", "g_first", "tc_first", "first_fail",
-                                          "transitions_first", "default"};
+                                          "transitions_first", "default", "z3"};
   bool known = false;
   for (const char* s : kSearches) known = known || o.search == s;
   if (!known)
     d.Error("/options/search", "search must be portfolio, g_first, tc_first, first_fail, "
-                               "transitions_first or default");
-  if (o.portfolio < 1 || o.portfolio > 2) d.Error("/options/portfolio", "portfolio must be 1 or 2");
+                               "transitions_first, default or z3");
+  if (o.portfolio < 1 || o.portfolio > 3)
+    d.Error("/options/portfolio", "portfolio must be 1, 2 or 3");
   if (d.ok()) return std::nullopt;
   return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid solve options", d);
 }
@@ -142,7 +143,8 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   const Objective objective = o.objective.value_or(sp.objective);
   const int max_h = o.horizon ? *o.horizon : o.max_horizon;
   if (auto e = CheckRepresentable(d, sp, objective, max_h)) return *e;
-  const char* solver = (o.backend ? *o.backend : DefaultBackend()).Name();
+  const std::string solver = o.search == "z3" ? Z3EngineBackend().Name()
+                                              : (o.backend ? *o.backend : DefaultBackend()).Name();
   Json stats = Json::object();
   if (o.static_analysis) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates

@@ -34,8 +34,9 @@ struct SolveOptions {
   bool decompose = true;               // solve independent parts separately and merge
   bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
   bool redundant = true;               // the encoder's redundant constraints (bench only)
-  // "portfolio" runs `portfolio` strategies at once (one core each) and keeps the first proof;
-  // or one strategy: g_first, tc_first, first_fail, transitions_first, default (Gecode's own).
+  // "portfolio" runs the first `portfolio` of g_first, tc_first (Gecode) and z3 at once (one
+  // core each) and keeps the first proof; or one strategy: g_first, tc_first, first_fail,
+  // transitions_first, default (Gecode's own), or z3 (the z3 engine alone, planner/smt).
   std::string search = "portfolio";
   int portfolio = 2;
   long portfolio_delay_ms = 300;       // the second strategy starts only after this

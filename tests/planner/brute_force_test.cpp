@@ -180,24 +180,31 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
     const long time_bound = lower_sum + kMaxEvents * max_lo + 1;
     Enumerator en(*d, *sp, time_bound);
     std::optional<Best> truth = en.Run();
-    SolveOptions o;
-    o.max_horizon = kMaxEvents;
-    o.time_limit_ms = 60000;
-    auto r = Solve(*d, *sp, o);
-    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
-    const Json& answer = std::get<Json>(r);
-    ASSERT_TRUE(answer["status"] == "optimal" || answer["status"] == "infeasible")
-        << "seed " << seed << ": undecided " << answer["status"] << "\n" << p.Describe();
-    if (truth) {
-      ++feasible;
-      EXPECT_EQ(answer["status"], "optimal") << "seed " << seed << "\n" << p.Describe();
-      EXPECT_EQ(answer["objective"]["value"], Value(sp->objective, *truth))
-          << "seed " << seed << " (" << en.plans_checked() << " plans enumerated)\n"
+    // Gecode (the default portfolio) and the z3 engine alone must both find the true optimum.
+    for (const char* search : {"portfolio", "z3"}) {
+      SolveOptions o;
+      o.max_horizon = kMaxEvents;
+      o.time_limit_ms = 60000;
+      o.search = search;
+      auto r = Solve(*d, *sp, o);
+      ASSERT_TRUE(std::holds_alternative<Json>(r))
+          << search << ": " << std::get<Error>(r).ToString() << p.Describe();
+      const Json& answer = std::get<Json>(r);
+      ASSERT_TRUE(answer["status"] == "optimal" || answer["status"] == "infeasible")
+          << "seed " << seed << " " << search << ": undecided " << answer["status"] << "\n"
           << p.Describe();
-    } else {
-      ++infeasible;
-      EXPECT_EQ(answer["status"], "infeasible") << "seed " << seed << "\n" << p.Describe();
+      if (truth) {
+        EXPECT_EQ(answer["status"], "optimal") << "seed " << seed << " " << search << "\n"
+                                               << p.Describe();
+        EXPECT_EQ(answer["objective"]["value"], Value(sp->objective, *truth))
+            << "seed " << seed << " " << search << " (" << en.plans_checked()
+            << " plans enumerated)\n" << p.Describe();
+      } else {
+        EXPECT_EQ(answer["status"], "infeasible") << "seed " << seed << " " << search << "\n"
+                                                  << p.Describe();
+      }
     }
+    ++(truth ? feasible : infeasible);
     ++compared;
   }
   // The sample must exercise both answers.

@@ -1,6 +1,6 @@
 // Differential tests (issue 8): small random problems solved under every configuration that must
 // give the same answer: by default (split, identical parts reused, portfolio), as one model,
-// without reuse, at a fixed horizon, and with one search strategy. Statuses and objective values
+// without reuse, at a fixed horizon, with one search strategy, and with the z3 engine alone. Statuses and objective values
 // must agree and every plan must verify. The generator and its seeds are here; a failure prints
 // the case (domain and state plan) so it can be replayed with `ctburton solve`.
 #include <gtest/gtest.h>
@@ -78,6 +78,10 @@ int CheckRange(unsigned first, int count) {
     fixed.horizon = kMaxHorizon;
     fixed.search = "g_first";
     configs.push_back({"fixed horizon", fixed});
+    // The z3 engine alone (issue 9), through the same split, horizon growth and verifier.
+    SolveOptions z3 = base;
+    z3.search = "z3";
+    configs.push_back({"z3 alone", z3});
     std::vector<Outcome> out;
     for (const auto& c : configs) out.push_back(Run(*d, *sp, c.o));
     for (std::size_t i = 0; i < out.size(); ++i) {

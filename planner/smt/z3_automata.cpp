@@ -1,0 +1,157 @@
+// The action model as z3 terms: the counterpart of planner/encode/encode_automata.cpp, one
+// function per emitter there, with the same constraints (MiniZinc's TAB, LO/HI, CMD and FROM
+// arrays are unfolded per transition).
+#include <algorithm>
+
+#include "planner/expr/normalize.h"
+#include "planner/smt/z3_model.h"
+
+namespace ctb::smt {
+
+namespace {
+
+z3::expr Guard(Model& m, const Transition& t, int k) {
+  return CondAt(m, t.guard, ExprInfo{}, CondMode::kGuard, k);
+}
+
+// "L[a,k] = FROM /\ G(k)": transition t of automaton a is enabled on stage k.
+z3::expr Enabled(Model& m, int a, const Transition& t, int k) {
+  z3::expr s = m.L[a][k] == t.from;
+  if (!IsTrue(t.guard)) s = s && Guard(m, t, k);
+  return s;
+}
+
+long Hi(const Model& m, int id) { return m.info.hi[id] < 0 ? m.T : std::min(m.info.hi[id], m.T); }
+
+// Events are ordered in time; e[0] = 0; every time lies in 0..T.
+void AddEvents(Model& m) {
+  m.Add(m.e[0] == 0);
+  for (int k = 0; k <= m.H; ++k) m.Add(m.e[k] >= 0 && m.e[k] <= m.Val(m.T));
+  for (int k = 0; k < m.H; ++k) m.Add(m.e[k] <= m.e[k + 1]);
+}
+
+// (L[a,k], X[a,k], L[a,k+1]) is a stay or one transition; entry times follow; the clock at
+// the firing event lies in the transition's [LO, HI] (X = 0: [0, T]).
+void AddLocationUpdate(Model& m, int a) {
+  const Automaton& au = m.d.automata[a];
+  const auto& ids = m.info.transitions_of[a];
+  m.Add(m.L[a][0] == m.sp.initial[a]);
+  m.Add(m.N[a][0] == 0);
+  for (int k = 0; k <= m.H; ++k) {
+    m.Add(m.L[a][k] >= 0 && m.L[a][k] < static_cast<int>(au.locations.size()));
+    m.Add(m.N[a][k] >= 0 && m.N[a][k] <= m.Val(m.T));
+    if (m.opts.redundant) m.Add(m.N[a][k] <= m.e[k]);
+  }
+  for (int k = 0; k < m.H; ++k) {
+    const z3::expr& x = m.X[a][k];
+    const z3::expr clock = m.e[k + 1] - m.N[a][k];
+    z3::expr_vector choices(m.z);
+    choices.push_back(x == 0);
+    m.Add(z3::implies(x == 0, m.L[a][k + 1] == m.L[a][k] && m.N[a][k + 1] == m.N[a][k]));
+    m.Add(z3::implies(x != 0, m.N[a][k + 1] == m.e[k + 1]));
+    m.Add(clock >= 0 && clock <= m.Val(m.T));
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Transition& t = au.transitions[i];
+      const int id = ids[i];
+      choices.push_back(x == id);
+      m.Add(z3::implies(x == id, m.L[a][k] == t.from && m.L[a][k + 1] == t.to &&
+                                     clock >= m.Val(m.info.lo[id]) && clock <= m.Val(Hi(m, id))));
+    }
+    m.Add(z3::mk_or(choices));
+  }
+}
+
+// A transition fires only when its guard holds on the stage before the event.
+void AddGuards(Model& m, int a) {
+  const Automaton& au = m.d.automata[a];
+  for (std::size_t i = 0; i < au.transitions.size(); ++i) {
+    const Transition& t = au.transitions[i];
+    if (IsTrue(t.guard)) continue;
+    const int id = m.info.transitions_of[a][i];
+    for (int k = 0; k < m.H; ++k) m.Add(z3::implies(m.X[a][k] == id, Guard(m, t, k)));
+  }
+}
+
+// Commands: private ones are the command the firing transition requires (the no-op for none);
+// public ones are free, and a commanded transition whose guard holds must fire.
+void AddCommands(Model& m, int a) {
+  const Automaton& au = m.d.automata[a];
+  const auto& ids = m.info.transitions_of[a];
+  m.Add(m.U[a][m.H] == 0);
+  for (int k = 0; k < m.H; ++k) {
+    const z3::expr& u = m.U[a][k];
+    if (!m.info.command_public[a]) {
+      z3::expr cmd = m.z.int_val(0);
+      for (std::size_t i = ids.size(); i-- > 0;) {
+        const Transition& t = au.transitions[i];
+        cmd = z3::ite(m.X[a][k] == ids[i], m.z.int_val(t.commanded ? t.command : 0), cmd);
+      }
+      m.Add(u == cmd);
+      continue;
+    }
+    m.Add(u >= 0 && u <= static_cast<int>(au.commands.size()));
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Transition& t = au.transitions[i];
+      if (t.commanded) m.Add(z3::implies(Enabled(m, a, t, k), m.X[a][k] == ids[i]));
+    }
+  }
+}
+
+// Automatic transitions fire as soon as enabled (no later than max(e[k], N + lo)); controllable
+// ones no later than hi; nothing is forced at or after g.
+void AddAutomatic(Model& m, int a) {
+  const Automaton& au = m.d.automata[a];
+  for (std::size_t i = 0; i < au.transitions.size(); ++i) {
+    const Transition& t = au.transitions[i];
+    if (t.commanded) continue;
+    const int id = m.info.transitions_of[a][i];
+    const long lo = m.info.lo[id];
+    if (t.controllable && m.info.hi[id] < 0) continue;
+    for (int k = 0; k < m.H; ++k) {
+      z3::expr before_g = m.g > k;
+      z3::expr en = Enabled(m, a, t, k);
+      z3::expr fire = m.X[a][k] == id;
+      z3::expr then = m.z.bool_val(true);
+      if (t.controllable) {
+        then = m.e[k + 1] - m.N[a][k] <= m.Val(m.info.hi[id]);
+      } else if (lo == 0) {
+        then = m.e[k + 1] == m.e[k] && fire;
+      } else {
+        z3::expr due = m.N[a][k] + m.Val(lo);
+        then = (m.e[k + 1] <= m.e[k] || m.e[k + 1] <= due) && z3::implies(m.e[k + 1] >= due, fire);
+      }
+      m.Add(z3::implies(before_g && en, then));
+    }
+  }
+}
+
+// Concise runs: every event up to g carries a transition (relaxed: events after g carry none);
+// padding events keep e[g]'s time.
+void AddConcise(Model& m) {
+  for (int k = 0; k < m.H; ++k) {
+    z3::expr_vector fired(m.z);
+    for (std::size_t a = 0; a < m.d.automata.size(); ++a) fired.push_back(m.X[a][k] != 0);
+    z3::expr any = fired.empty() ? m.z.bool_val(false) : z3::mk_or(fired);
+    if (m.opts.idle_events)
+      m.Add(z3::implies(any, m.g > k));
+    else
+      m.Add((m.g > k) == any);
+    m.Add(z3::implies(m.g <= k, m.e[k + 1] == m.e[k]));
+  }
+}
+
+}  // namespace
+
+void AddAutomata(Model& m) {
+  m.Add(m.g >= 0 && m.g <= m.H);
+  AddEvents(m);
+  for (int a = 0; a < static_cast<int>(m.d.automata.size()); ++a) {
+    AddLocationUpdate(m, a);
+    AddGuards(m, a);
+    AddCommands(m, a);
+    AddAutomatic(m, a);
+  }
+  AddConcise(m);
+}
+
+}  // namespace ctb::smt
