@@ -9,7 +9,7 @@ PACKAGES=(
   build-essential cmake pkg-config python3
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev
-  minizinc libgecode-dev
+  minizinc libgecode-dev libz3-dev
   libcurl4-openssl-dev libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev
   libsqlite3-dev libhiredis-dev
 )
