@@ -31,25 +31,62 @@ Json Row(const z3::model& mod, const Exprs& vars) {
   return row;
 }
 
-Json Rows(const z3::model& mod, const Exprs2& vars) {
+bool Holds(const z3::model& mod, const z3::expr& b) { return mod.eval(b, true).is_true(); }
+
+// The index of the one-hot literal that holds (fallback when none does).
+int OneHot(const z3::model& mod, const Exprs& xs, int none) {
+  for (std::size_t i = 0; i < xs.size(); ++i)
+    if (Holds(mod, xs[i])) return static_cast<int>(i);
+  return none;
+}
+
+int OrderValue(const z3::model& mod, const OrderVar& v) {
+  int n = 0;
+  for (const auto& gt : v.gt) n += Holds(mod, gt) ? 1 : 0;
+  return n;
+}
+
+Json Orders(const z3::model& mod, const std::vector<OrderVar>& vs) {
+  Json row = Json::array();
+  for (const auto& v : vs) row.push_back(OrderValue(mod, v));
+  return row;
+}
+
+// L, U (one value per stage) or X (the global transition id per event, 0 for none).
+Json Discrete(const Model& m, const z3::model& mod, const Exprs3& table, bool transitions) {
   Json rows = Json::array();
-  for (const auto& r : vars) rows.push_back(Row(mod, r));
+  for (std::size_t a = 0; a < table.size(); ++a) {
+    Json row = Json::array();
+    for (const auto& xs : table[a]) {
+      int v = OneHot(mod, xs, -1);
+      if (transitions) v = v < 0 ? 0 : m.info.transitions_of[a][v];
+      row.push_back(v);
+    }
+    rows.push_back(row);
+  }
   return rows;
 }
 
 // The solution in the shape of the MiniZinc model's JSON output (what ExtractTrajectory reads).
 Json SolutionJson(const Model& m, const z3::model& mod) {
-  Json s = {{"e", Row(mod, m.e)},         {"L", Rows(mod, m.L)},     {"X", Rows(mod, m.X)},
-            {"N", Rows(mod, m.N)},         {"U", Rows(mod, m.U)},     {"g", Value(mod, m.g)},
-            {"cost", Value(mod, m.cost)}, {"makespan", Value(mod, m.makespan)},
+  Json n = Json::array();
+  for (const auto& r : m.N) n.push_back(Row(mod, r));
+  Json s = {{"e", Row(mod, m.e)},
+            {"L", Discrete(m, mod, m.loc, false)},
+            {"X", Discrete(m, mod, m.fire, true)},
+            {"N", n},
+            {"U", Discrete(m, mod, m.cmd, false)},
+            {"g", OrderValue(mod, m.g)},
+            {"cost", Value(mod, m.cost)},
+            {"makespan", Value(mod, m.makespan)},
             {"objective", Value(mod, m.objective)}};
   if (!m.ep_s.empty()) {
-    s["EP_S"] = Row(mod, m.ep_s);
-    s["EP_E"] = Row(mod, m.ep_e);
+    s["EP_S"] = Orders(mod, m.ep_s);
+    s["EP_E"] = Orders(mod, m.ep_e);
   }
   if (!m.tc_1.empty()) {
-    s["TC_1"] = Row(mod, m.tc_1);
-    s["TC_2"] = Row(mod, m.tc_2);
+    s["TC_1"] = Orders(mod, m.tc_1);
+    s["TC_2"] = Orders(mod, m.tc_2);
   }
   return s;
 }

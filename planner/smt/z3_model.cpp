@@ -8,32 +8,63 @@ namespace ctb::smt {
 
 namespace {
 
-std::string Name(const char* base, std::size_t a, int k) {
-  return std::string(base) + "_" + std::to_string(a) + "_" + std::to_string(k);
+std::string Name(const char* base, std::size_t a, int k, std::size_t i) {
+  return std::string(base) + "_" + std::to_string(a) + "_" + std::to_string(k) + "_" +
+         std::to_string(i);
+}
+
+// EPSTATE / TCSTATE at j = k-1 equal code, from the start and end indices.
+z3::expr StateIs(Model& m, const OrderVar& start, const OrderVar& end, int k, int code) {
+  if (k == 0) return m.z.bool_val(code == 0);
+  const z3::expr b1 = start.Le(k - 1), b2 = end.Le(k - 1);
+  switch (code) {
+    case 0: return !b1 && !b2;
+    case 1: return b1 != b2;
+    case 2: return b1 && b2;
+    default: return m.False();  // Failed: the sum never reaches 3
+  }
 }
 
 }  // namespace
 
+z3::expr OrderVar::Gt(int k) const {
+  if (k < 0) return z->bool_val(true);
+  if (k >= static_cast<int>(gt.size())) return z->bool_val(false);
+  return gt[k];
+}
+
 Model::Model(z3::context& ctx, const ModelSpec& spec)
     : z(ctx), d(*spec.d), sp(*spec.sp), info(*spec.info), opts(spec.opts), H(spec.opts.horizon),
-      T(spec.info->TimeBound(spec.opts.horizon)), g(ctx.int_val(0)), cost(ctx.int_val(0)),
+      T(spec.info->TimeBound(spec.opts.horizon)), cost(ctx.int_val(0)),
       makespan(ctx.int_val(0)), objective(ctx.int_val(0)), constraints(ctx) {
   for (int k = 0; k <= H; ++k) e.push_back(Int("e_" + std::to_string(k)));
   const std::size_t na = d.automata.size();
-  L.resize(na);
-  X.resize(na);
   N.resize(na);
-  U.resize(na);
-  for (std::size_t a = 0; a < na; ++a)
+  loc.resize(na);
+  fire.resize(na);
+  cmd.resize(na);
+  idle.resize(na);
+  for (std::size_t a = 0; a < na; ++a) {
+    const Automaton& au = d.automata[a];
     for (int k = 0; k <= H; ++k) {
-      L[a].push_back(Int(Name("L", a, k)));
-      N[a].push_back(Int(Name("N", a, k)));
-      U[a].push_back(Int(Name("U", a, k)));
-      if (k < H) X[a].push_back(Int(Name("X", a, k)));
+      N[a].push_back(Int("N_" + std::to_string(a) + "_" + std::to_string(k)));
+      loc[a].emplace_back();
+      for (std::size_t l = 0; l < au.locations.size(); ++l) loc[a][k].push_back(Bool(Name("L", a, k, l)));
+      cmd[a].emplace_back();
+      for (std::size_t c = 0; c <= au.commands.size(); ++c) cmd[a][k].push_back(Bool(Name("U", a, k, c)));
+      if (k == H) continue;
+      fire[a].emplace_back();
+      z3::expr_vector any(z);
+      for (std::size_t i = 0; i < au.transitions.size(); ++i) {
+        fire[a][k].push_back(Bool(Name("X", a, k, i)));
+        any.push_back(fire[a][k].back());
+      }
+      idle[a].push_back(any.empty() ? True() : !z3::mk_or(any));
     }
-  g = Int("g");
-  auto indices = [&](const char* base, std::size_t n, Exprs& out) {
-    for (std::size_t i = 0; i < n; ++i) out.push_back(Int(base + std::to_string(i)));
+  }
+  g = Order("g");
+  auto indices = [&](const char* base, std::size_t n, std::vector<OrderVar>& out) {
+    for (std::size_t i = 0; i < n; ++i) out.push_back(Order(base + std::to_string(i)));
   };
   indices("EP_S_", sp.episodes.size(), ep_s);
   indices("EP_E_", sp.episodes.size(), ep_e);
@@ -48,24 +79,47 @@ z3::expr Model::Int(const std::string& name) {
   return z.int_const(name.c_str());
 }
 
-z3::expr Model::At(const Exprs& arr, const z3::expr& idx, const std::string& name) {
-  z3::expr v = Int(name);
-  for (std::size_t k = 0; k < arr.size(); ++k)
-    Add(z3::implies(idx == static_cast<int>(k), v == arr[k]));
+z3::expr Model::Bool(const std::string& name) {
+  ++declared;
+  return z.bool_const(name.c_str());
+}
+
+OrderVar Model::Order(const std::string& name) {
+  OrderVar v;
+  v.z = &z;
+  for (int k = 0; k < H; ++k) v.gt.push_back(Bool(name + "_gt_" + std::to_string(k)));
+  for (int k = 0; k + 1 < H; ++k) Add(z3::implies(v.gt[k + 1], v.gt[k]));
   return v;
 }
 
-// EPSTATE[p,k-1] = bool2int(k-1 >= EP_S[p]) + bool2int(k-1 >= EP_E[p]); 0 at k = 0.
-z3::expr Model::EpState(int p, int k) {
-  if (k == 0) return z.int_val(0);
-  return z3::ite(ep_s[p] <= k - 1, z.int_val(1), z.int_val(0)) +
-         z3::ite(ep_e[p] <= k - 1, z.int_val(1), z.int_val(0));
+z3::expr Model::LocIs(int a, int k, int l) const {
+  if (l < 0 || l >= static_cast<int>(loc[a][k].size())) return z.bool_val(false);
+  return loc[a][k][l];
 }
 
-z3::expr Model::TcState(int q, int k) {
-  if (k == 0) return z.int_val(0);
-  return z3::ite(tc_a[q] <= k - 1, z.int_val(1), z.int_val(0)) +
-         z3::ite(tc_b[q] <= k - 1, z.int_val(1), z.int_val(0));
+z3::expr Model::CmdIs(int a, int k, int c) const {
+  if (c < 0 || c >= static_cast<int>(cmd[a][k].size())) return z.bool_val(false);
+  return cmd[a][k][c];
+}
+
+z3::expr Model::At(const Exprs& arr, const OrderVar& idx, const std::string& name) {
+  z3::expr v = Int(name);
+  for (std::size_t k = 0; k < arr.size(); ++k)
+    Add(z3::implies(idx.Eq(static_cast<int>(k)), v == arr[k]));
+  return v;
+}
+
+z3::expr Model::EpStateIs(int p, int k, int code) { return StateIs(*this, ep_s[p], ep_e[p], k, code); }
+z3::expr Model::TcStateIs(int q, int k, int code) { return StateIs(*this, tc_a[q], tc_b[q], k, code); }
+
+void Model::One(const Exprs& xs, bool exactly) {
+  if (exactly) {
+    z3::expr_vector v(z);
+    for (const auto& x : xs) v.push_back(x);
+    Add(v.empty() ? False() : z3::mk_or(v));
+  }
+  for (std::size_t i = 0; i < xs.size(); ++i)
+    for (std::size_t j = i + 1; j < xs.size(); ++j) Add(!xs[i] || !xs[j]);
 }
 
 namespace {
@@ -81,32 +135,29 @@ struct CondBuilder {
     return k;
   }
 
-  z3::expr Term(const Expr& atom) {
+  z3::expr Atom(const Expr& atom) {
     switch (atom.var_kind) {
-      case VarKind::kLocation: return m.L[atom.target][Stage(atom.index)];
-      case VarKind::kCommand: return m.U[atom.target][Stage(atom.index)];
-      case VarKind::kEpisodeState: return m.EpState(atom.target, k);
-      case VarKind::kTemporalState: return m.TcState(atom.target, k);
+      case VarKind::kLocation: return m.LocIs(atom.target, Stage(atom.index), atom.value_code);
+      case VarKind::kCommand: return m.CmdIs(atom.target, Stage(atom.index), atom.value_code);
+      case VarKind::kEpisodeState: return m.EpStateIs(atom.target, k, atom.value_code);
+      case VarKind::kTemporalState: return m.TcStateIs(atom.target, k, atom.value_code);
       case VarKind::kUnresolved: break;
     }
-    return m.z.int_val(-1);  // unreachable for checked trees; equal to no code
+    return m.False();  // unreachable for checked trees
   }
 
   z3::expr Build(const Expr& e) {
     switch (e.op) {
-      case Expr::Op::kTrue: return m.z.bool_val(true);
-      case Expr::Op::kFalse: return m.z.bool_val(false);
-      case Expr::Op::kAtom: {
-        z3::expr eq = Term(e) == e.value_code;
-        return e.not_equal ? !eq : eq;
-      }
+      case Expr::Op::kTrue: return m.True();
+      case Expr::Op::kFalse: return m.False();
+      case Expr::Op::kAtom: return e.not_equal ? !Atom(e) : Atom(e);
       case Expr::Op::kNot: return !Build(e.kids[0]);
       case Expr::Op::kAnd: return Build(e.kids[0]) && Build(e.kids[1]);
       case Expr::Op::kOr: return Build(e.kids[0]) || Build(e.kids[1]);
       case Expr::Op::kImplies: return z3::implies(Build(e.kids[0]), Build(e.kids[1]));
       case Expr::Op::kIff: return Build(e.kids[0]) == Build(e.kids[1]);
     }
-    return m.z.bool_val(false);
+    return m.False();
   }
 };
 
@@ -114,7 +165,7 @@ struct CondBuilder {
 
 z3::expr CondAt(Model& m, const Expr& e, const ExprInfo& info, CondMode mode, int k) {
   const bool change = mode == CondMode::kEvent && info.IsChange();
-  if (change && k == 0) return m.z.bool_val(false);
+  if (change && k == 0) return m.False();
   return CondBuilder{m, change, k}.Build(e);
 }
 
