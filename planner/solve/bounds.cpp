@@ -1,5 +1,7 @@
 #include "planner/solve/bounds.h"
 
+#include "planner/analyze/earliest.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -115,6 +117,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   }
   for (const auto& t : sp.temporals)
     b.makespan_ticks = std::max(b.makespan_ticks, std::lround(t.lower * static_cast<double>(tps)));
+  // Guards, dwell in an episode's location and the state plan's temporal network.
+  if (auto earliest = ComputeEarliestTimes(d, sp); earliest && earliest->goal < EarliestTimes::kNever)
+    b.makespan_ticks = std::max(b.makespan_ticks, earliest->goal);
   return b;
 }
 

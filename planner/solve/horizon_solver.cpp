@@ -47,7 +47,8 @@ class Solver {
  public:
   Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
-        objective_(o.objective.value_or(sp.objective)), t0_(Clock::now()) {}
+        objective_(o.objective.value_or(sp.objective)), bounds_(LowerBounds(d, sp)),
+        t0_(Clock::now()) {}
 
   // Proves that no plan strictly better than p exists with at most max_horizon events (over the
   // runs these options allow), or finds one.
@@ -159,6 +160,12 @@ class Solver {
     return than->cost * cost_factor + than->makespan * makespan_factor;
   }
 
+  // The proven lower bound in the units of a model with horizon h.
+  long AtLeast(int h) const {
+    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
+    return bounds_.cost * cost_factor + bounds_.makespan_ticks * makespan_factor;
+  }
+
   std::vector<std::string> Strategies() const {
     if (o_.search != "portfolio") return {o_.search};
     if (o_.portfolio <= 1) return {"g_first"};
@@ -184,6 +191,7 @@ class Solver {
       eo.search = strategies[i];
       eo.redundant = o_.redundant;
       eo.better_than = BetterThan(h, better);
+      eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;
       Encoding enc = Encode(d_, sp_, info_, eo);
       if (i == 0) {
@@ -306,7 +314,7 @@ class Solver {
   }
 
   bool MeetsLowerBound(const Plan& p) const {
-    return MeetsLowerBounds(LowerBounds(d_, sp_), objective_, p.cost, p.makespan);
+    return MeetsLowerBounds(bounds_, objective_, p.cost, p.makespan);
   }
 
   bool Better(const Plan& a, const Plan& b) const { return BetterPlan(objective_, a, b); }
@@ -355,6 +363,7 @@ class Solver {
   const SolveOptions& o_;
   ProblemInfo info_;
   Objective objective_;
+  ObjectiveBounds bounds_;
   Clock::time_point t0_;
   std::optional<Plan> best_;
   int horizon_ = 0;
