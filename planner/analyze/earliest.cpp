@@ -39,13 +39,9 @@ bool PositiveLocation(const Expr& e) {
          e.index.kind != IndexKind::kFixed;
 }
 
-// The positive location atoms (automaton, location) of e's top-level conjunction.
 std::vector<std::pair<int, int>> Pinned(const Expr& e) {
-  std::vector<const Expr*> parts;
-  Flatten(e, Expr::Op::kAnd, parts);
   std::vector<std::pair<int, int>> out;
-  for (const Expr* p : parts)
-    if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
+  RequiredLocations(e, out);
   return out;
 }
 
@@ -252,6 +248,13 @@ class Earliest {
 };
 
 }  // namespace
+
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
+  std::vector<const Expr*> parts;
+  Flatten(e, Expr::Op::kAnd, parts);
+  for (const Expr* p : parts)
+    if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
+}
 
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp) {
   return Earliest(d, sp).Run();

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "planner/model/domain.h"
@@ -29,6 +30,10 @@ struct EarliestTimes {
   std::vector<std::vector<long>> arrival;   // [automaton][location], ticks
   long goal = 0;                            // no plan accepts its end state earlier (ticks)
 };
+
+// The positive location atoms (automaton, location) of e's top-level conjunction that do not use
+// a fixed stage: the locations a condition needs.
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
 
 // nullopt when the fixpoint does not settle within its round limit (then no bound is claimed).
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp);

@@ -205,6 +205,12 @@ class Solver {
       reqs[i].minizinc = o_.minizinc;
       reqs[i].threads = o_.threads;
       reqs[i].cancel = &stop;
+      // A plan that meets the proven bound is optimal: stop every run at once (the verifier
+      // still checks it in Attempt).
+      reqs[i].on_solution = [&stop, at_least = AtLeast(h)](const Json& s) {
+        auto it = s.find("_objective");
+        if (it != s.end() && it->is_number_integer() && it->get<long>() <= at_least) stop = true;
+      };
     }
     // The first strategy starts at once; the others only when it has not decided within
     // portfolio_delay_ms, so easy problems do not pay for a second flattening.
@@ -306,6 +312,7 @@ class Solver {
                           {"elapsed_ms", MsSince(t0_)}});
       }
     }
+    if (best_ && horizon_ == h && MeetsLowerBound(*best_)) return Outcome::kOptimal;
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
                                                                         : Outcome::kInfeasible;
     for (const auto& r : runs)
