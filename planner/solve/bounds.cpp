@@ -1,14 +1,15 @@
 #include "planner/solve/bounds.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <set>
 #include <limits>
 #include <queue>
+#include <set>
 #include <utility>
 #include <vector>
+
+#include "planner/analyze/relaxed_cost.h"
 
 namespace ctb {
 
@@ -159,6 +160,8 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   }
   for (const auto& t : sp.temporals)
     b.makespan_ticks = std::max(b.makespan_ticks, std::lround(t.lower * static_cast<double>(tps)));
+  // The delete relaxation counts the help automata give each other (analyze/relaxed_cost.h).
+  if (auto relaxed = RelaxedCostBound(d, sp)) b.cost = std::max(b.cost, *relaxed);
   // Guards, dwell in an episode's location and the state plan's temporal network.
   if (auto earliest = ComputeEarliestTimes(d, sp); earliest && earliest->goal < EarliestTimes::kNever)
     b.makespan_ticks = std::max(b.makespan_ticks, earliest->goal);

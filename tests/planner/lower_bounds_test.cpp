@@ -1,10 +1,11 @@
-// Earliest times (analyze/earliest.h): the makespan lower bound that closes issue 9's proofs
-// without a solve at max_horizon. Soundness on random problems is checked against every plan
-// the brute-force enumeration finds (brute_force_test.cpp).
+// Lower bounds that hold for every plan (issue 9): earliest times (analyze/earliest.h), the
+// delete relaxation (analyze/relaxed_cost.h) and guard landmarks (solve/bounds.h). Soundness on
+// random problems is checked against every plan the brute-force enumeration finds.
 #include "planner/analyze/earliest.h"
 
 #include <gtest/gtest.h>
 
+#include "planner/analyze/relaxed_cost.h"
 #include "planner/solve/bounds.h"
 #include "test_util.h"
 
@@ -102,6 +103,41 @@ TEST(Earliest, NoDwellWhenTheEpisodeMayStartLater) {
   const int p = Automaton(d, "proj");
   EXPECT_EQ(e->arrival[p][Loc(d, "proj", "projConfirm")], Ticks(d, 30));
   EXPECT_EQ(e->goal, Ticks(d, 30 + 100));  // the episode's start needs projOn (and compOn)
+}
+
+// The delete relaxation sees that someone must open a door (one robot's detour, 1) and that the
+// door moves (2) besides each robot's cheapest route (5): 2 * 5 + 1 + 2 = 13. The graph bound,
+// which ignores guards, says 10.
+TEST(RelaxedCost, SomeoneOpensTheDoor) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  StatePlan sp = Example("search_rescue", "test1.json");
+  auto h = RelaxedCostBound(d, sp);
+  ASSERT_TRUE(h);
+  EXPECT_EQ(*h, 13);
+  EXPECT_EQ(LowerBounds(d, sp).cost, 13);
+}
+
+// Guard landmarks: the projector cannot warm up unless the connection is connected, and the goal
+// brings the connection back: the connection costs 2 although its goal is its initial location.
+TEST(RelaxedCost, LandmarksCountTheHelperAndItsWayBack) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = Plan("presentation", testing::MustParse(R"({
+    "initial_state": {"comp": "compOff", "conn": "disconnected", "proj": "projOff"},
+    "end_state": {"maintenance_constraint": "true",
+      "goal_constraint": "connl[i+1]==disconnected /\\ projl[i+1]==projOff"},
+    "constraints": {"episodes": {"On": {"accepting_constraint": "projl[i]==projOn",
+      "state_constraint": "projl[i]==projOn", "lower_bound": 10, "upper_bound": 20}}}})"));
+  // proj: off -> warm-up -> on -> cool-down -> off (4); conn: connect and disconnect (2).
+  EXPECT_EQ(LowerBounds(d, sp).cost, 6);
+}
+
+// A relaxation without a plan gives no bound (the static checks report the conflict).
+TEST(RelaxedCost, NoRelaxedPlanNoBound) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  StatePlan sp = Example("search_rescue", "test1.json");
+  sp.goal.expr = Expr{};
+  sp.goal.expr.op = Expr::Op::kFalse;
+  EXPECT_FALSE(RelaxedCostBound(d, sp));
 }
 
 }  // namespace
