@@ -59,8 +59,9 @@ bool NeedsOwnActive(const Expr& e, int q) {
 
 class Earliest {
  public:
-  Earliest(const Domain& d, const StatePlan& sp)
-      : d_(d), sp_(sp), tps_(std::max(1L, std::lround(1.0 / d.time_resolution))) {}
+  Earliest(const Domain& d, const StatePlan& sp, Measure measure)
+      : d_(d), sp_(sp), tps_(std::max(1L, std::lround(1.0 / d.time_resolution))),
+        events_(measure == Measure::kEvents) {}
 
   std::optional<EarliestTimes> Run() {
     ComputeDwell();
@@ -79,6 +80,7 @@ class Earliest {
     dwell_.resize(d_.automata.size());
     for (std::size_t a = 0; a < d_.automata.size(); ++a)
       dwell_[a].assign(d_.automata[a].locations.size(), 0);
+    if (events_) return;
     for (const Episode& ep : sp_.episodes) {
       const Expr& acc = ep.accepting.expr;
       if (ep.accepting.info.IsChange() || !PositiveLocation(acc)) continue;
@@ -87,6 +89,9 @@ class Earliest {
           dwell_[a][l] = std::max(dwell_[a][l], Ticks(ep.lower, tps_));
     }
   }
+
+  // A transition's least length: its lower duration, or one event.
+  long Duration(const Transition& t) const { return events_ ? 1 : Ticks(t.duration.lo, tps_); }
 
   long LocationAtom(const Expr& atom) const {
     if (atom.var_kind != VarKind::kLocation || atom.not_equal || atom.index.kind == IndexKind::kFixed)
@@ -112,8 +117,8 @@ class Earliest {
         for (const Transition& t : d_.automata[a].transitions) {
           const long from = arr_[a][t.from];
           if (from >= kNever) continue;
-          long fire = std::max({Add(from, Ticks(t.duration.lo, tps_)), Add(from, dwell_[a][t.from]),
-                                EarliestOf(t.guard, atom)});
+          long fire = std::max({Add(from, Duration(t)), Add(from, dwell_[a][t.from]),
+                                Add(EarliestOf(t.guard, atom), events_ ? 1 : 0)});
           if (fire < arr_[a][t.to]) {
             arr_[a][t.to] = fire;
             changed = true;
@@ -161,7 +166,7 @@ class Earliest {
     };
     for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
       raise(ep_s_[p], At(sp_.episodes[p].accepting));
-      raise(ep_e_[p], Add(ep_s_[p], Ticks(sp_.episodes[p].lower, tps_)));
+      raise(ep_e_[p], Add(ep_s_[p], events_ ? 1 : Ticks(sp_.episodes[p].lower, tps_)));
     }
     for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
       const Temporal& tc = sp_.temporals[q];
@@ -172,7 +177,8 @@ class Earliest {
                   : NeedsOwnActive(tc.event1.expr, qi) ? tc_2_[q]
                                                        : std::min(tc_1_[q], tc_2_[q]);
       raise(tc_a_[q], open);
-      raise(tc_b_[q], std::max({tc_1_[q], tc_2_[q], Add(tc_a_[q], Ticks(tc.lower, tps_))}));
+      const long gap = events_ ? (tc.lower > 0 ? 1 : 0) : Ticks(tc.lower, tps_);
+      raise(tc_b_[q], std::max({tc_1_[q], tc_2_[q], Add(tc_a_[q], gap)}));
     }
     for (const SharedEvent& ev : sp_.events) {
       long t = 0;
@@ -203,7 +209,8 @@ class Earliest {
     return t;
   }
 
-  // Least time over lower durations from entering m to entering `to` (guards ignored).
+  // Least time (events) over lower durations (transitions) from entering m to entering `to`,
+  // guards ignored.
   long Distance(int a, int m, int to) const {
     const Automaton& au = d_.automata[a];
     std::vector<long> dist(au.locations.size(), kNever);
@@ -216,7 +223,7 @@ class Earliest {
       q.pop();
       if (dl > dist[l]) continue;
       for (const Transition& t : au.transitions) {
-        long w = Add(dl, Ticks(t.duration.lo, tps_));
+        long w = Add(dl, Duration(t));
         if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
       }
     }
@@ -243,6 +250,7 @@ class Earliest {
   const Domain& d_;
   const StatePlan& sp_;
   const long tps_;
+  const bool events_;
   std::vector<std::vector<long>> dwell_, arr_;
   std::vector<long> ep_s_, ep_e_, tc_1_, tc_2_, tc_a_, tc_b_;
 };
@@ -256,8 +264,9 @@ void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
     if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
 }
 
-std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp) {
-  return Earliest(d, sp).Run();
+std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,
+                                                  Measure measure) {
+  return Earliest(d, sp, measure).Run();
 }
 
 }  // namespace ctb

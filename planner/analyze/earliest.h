@@ -25,10 +25,16 @@
 
 namespace ctb {
 
+// What the bound counts: time in ticks, or events (each transition at an event after the one at
+// which its source location and the locations its guard needs were entered; an episode ends at a
+// later event than it starts; a temporal constraint with a positive lower bound is accepted at a
+// later event than it opens). Dwell is a matter of time only.
+enum class Measure { kTicks, kEvents };
+
 struct EarliestTimes {
   static constexpr long kNever = 1L << 60;  // never entered / never holds
-  std::vector<std::vector<long>> arrival;   // [automaton][location], ticks
-  long goal = 0;                            // no plan accepts its end state earlier (ticks)
+  std::vector<std::vector<long>> arrival;   // [automaton][location], ticks or events
+  long goal = 0;                            // no plan accepts its end state earlier
 };
 
 // The positive location atoms (automaton, location) of e's top-level conjunction that do not use
@@ -36,6 +42,7 @@ struct EarliestTimes {
 void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
 
 // nullopt when the fixpoint does not settle within its round limit (then no bound is claimed).
-std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp);
+std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,
+                                                  Measure measure = Measure::kTicks);
 
 }  // namespace ctb

@@ -138,6 +138,9 @@ class Solver {
       for (auto [b, v] : visits)
         if (b == static_cast<int>(a)) lb = std::max(lb, via(v));
     }
+    // Guards and the state plan order events too (analyze/earliest.h).
+    if (auto ev = ComputeEarliestTimes(d_, sp_, Measure::kEvents); ev && ev->goal < EarliestTimes::kNever)
+      lb = static_cast<int>(std::min<long>(std::max<long>(lb, ev->goal), o_.max_horizon));
     return std::min(lb, o_.max_horizon);
   }
 

@@ -47,7 +47,8 @@ class Enumerator {
  public:
   Enumerator(const Domain& d, const StatePlan& sp, long time_bound)
       : d_(d), sp_(sp), tb_(time_bound), na_(static_cast<int>(d.automata.size())),
-        bounds_(LowerBounds(d, sp)), earliest_(ComputeEarliestTimes(d, sp)) {}
+        bounds_(LowerBounds(d, sp)), earliest_(ComputeEarliestTimes(d, sp)),
+        events_(ComputeEarliestTimes(d, sp, Measure::kEvents)) {}
 
   std::optional<Best> Run() {
     for (int g = 0; g <= kMaxEvents; ++g) {
@@ -159,16 +160,21 @@ class Enumerator {
     if (b.makespan < bounds_.makespan_ticks)
       violations_.push_back("makespan " + std::to_string(b.makespan) + " < bound " +
                             std::to_string(bounds_.makespan_ticks));
-    if (!earliest_) return;
+    if (events_ && t.goal_event < events_->goal)
+      violations_.push_back("goal event " + std::to_string(t.goal_event) + " < earliest " +
+                            std::to_string(events_->goal));
+    if (!earliest_ || !events_) return;
     for (int a = 0; a < na_; ++a)
       for (int k = 0; k <= t.goal_event; ++k) {
         const int l = t.locations[a][k];
         bool first = true;
         for (int j = 0; j < k; ++j) first = first && t.locations[a][j] != l;
-        if (first && t.events[k] < earliest_->arrival[a][l])
+        if (first && (t.events[k] < earliest_->arrival[a][l] || k < events_->arrival[a][l]))
           violations_.push_back("automaton " + std::to_string(a) + " enters location " +
-                                std::to_string(l) + " at " + std::to_string(t.events[k]) +
-                                " < earliest " + std::to_string(earliest_->arrival[a][l]));
+                                std::to_string(l) + " at event " + std::to_string(k) + ", time " +
+                                std::to_string(t.events[k]) + " < earliest " +
+                                std::to_string(earliest_->arrival[a][l]) + " s, event " +
+                                std::to_string(events_->arrival[a][l]));
       }
   }
 
@@ -177,7 +183,7 @@ class Enumerator {
   long tb_;
   int na_;
   ObjectiveBounds bounds_;
-  std::optional<EarliestTimes> earliest_;
+  std::optional<EarliestTimes> earliest_, events_;
   std::vector<std::string> violations_;
   std::optional<Best> best_;
   long checked_ = 0;
