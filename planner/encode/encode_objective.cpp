@@ -63,6 +63,8 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
                     : c.opts.objective == Objective::kMakespan ? "makespan"
                     : "cost * " + std::to_string(enc.objective_cost_factor) + " + makespan";
   o += "var int: objective = " + obj + ";\n";
+  if (c.opts.at_least && *c.opts.at_least > 0)
+    o += "constraint objective >= " + std::to_string(*c.opts.at_least) + ";  % redundant: a proven bound\n";
   if (c.opts.better_than) o += "constraint objective < " + std::to_string(*c.opts.better_than) + ";\n";
   std::string search = c.opts.search == "default" ? "" : TimeOrderSearch(c);
   o += "solve " + search + " minimize objective;\n";

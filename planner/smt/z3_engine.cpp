@@ -79,7 +79,8 @@ Json SolutionJson(const Model& m, const z3::model& mod) {
             {"g", OrderValue(mod, m.g)},
             {"cost", Value(mod, m.cost)},
             {"makespan", Value(mod, m.makespan)},
-            {"objective", Value(mod, m.objective)}};
+            {"objective", Value(mod, m.objective)},
+            {"_objective", Value(mod, m.objective)}};  // as minizinc --output-objective
   if (!m.ep_s.empty()) {
     s["EP_S"] = Orders(mod, m.ep_s);
     s["EP_E"] = Orders(mod, m.ep_e);

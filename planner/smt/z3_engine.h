@@ -5,8 +5,9 @@
 // Contract: the same EncodeOptions give the same set of solutions and the same objective as the
 // MiniZinc model (docs/encoding.md, "A second engine: z3"); each solution is the JSON object the
 // MiniZinc model outputs ("e", "L", "U", "X", "N", "g", "EP_S", "EP_E", "TC_1", "TC_2",
-// "objective"), so ExtractTrajectory reads it unchanged. Never throws; z3 failures are kError
-// with a clean message. Thread-safe: each call has its own z3 context.
+// "objective", "_objective"), so ExtractTrajectory and the portfolio read it unchanged. Never
+// throws; z3 failures are kError with a clean message. Thread-safe: each call has its own z3
+// context.
 #pragma once
 
 #include <atomic>

@@ -1,6 +1,7 @@
 // The objective as z3 terms: the counterpart of planner/encode/encode_objective.cpp. Search
 // annotations have no counterpart; of the redundant constraints only "cost >= MINCOST * g" is
-// kept (the distance tables are lookups at variable indices, costly to unfold).
+// kept (the distance tables are lookups at variable indices, costly to unfold), with the
+// proven lower bound (EncodeOptions::at_least) as MiniZinc has it.
 #include "planner/smt/z3_model.h"
 
 namespace ctb::smt {
@@ -22,6 +23,8 @@ void AddObjective(Model& m) {
   }
   auto [cost_factor, makespan_factor] = ObjectiveFactors(m.opts.objective, m.T);
   m.objective = m.Val(cost_factor) * m.cost + m.Val(makespan_factor) * m.makespan;
+  if (m.opts.at_least && *m.opts.at_least > 0)  // redundant: a proven bound
+    m.Add(m.objective >= m.Val(*m.opts.at_least));
   if (m.opts.better_than) m.Add(m.objective < m.Val(*m.opts.better_than));
 }
 

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <queue>
+#include <set>
 #include <utility>
 #include <vector>
+
+#include "planner/analyze/relaxed_cost.h"
 
 namespace ctb {
 
@@ -48,17 +52,57 @@ long Through(const Automaton& au, int init, int via, int final_loc, bool by_time
   return second >= kUnreachable ? first : first + second;
 }
 
-}  // namespace
+// True when `to` can be reached from `from` in the automaton's graph without the transitions
+// that need automaton b in location n.
+bool ReachableWithout(const Automaton& au, int from, int to, int b, int n) {
+  std::vector<bool> seen(au.locations.size(), false);
+  std::vector<int> stack{from};
+  seen[from] = true;
+  while (!stack.empty()) {
+    int l = stack.back();
+    stack.pop_back();
+    if (l == to) return true;
+    for (const Transition& t : au.transitions) {
+      if (t.from != l || seen[t.to]) continue;
+      std::vector<std::pair<int, int>> needs;
+      RequiredLocations(t.guard, needs);
+      if (std::find(needs.begin(), needs.end(), std::make_pair(b, n)) != needs.end()) continue;
+      seen[t.to] = true;
+      stack.push_back(t.to);
+    }
+  }
+  return false;
+}
 
-void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
-  if (e.op == Expr::Op::kAnd) {
-    RequiredLocations(e.kids[0], out);
-    RequiredLocations(e.kids[1], out);
-  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
-             e.index.kind != IndexKind::kFixed) {
-    out.emplace_back(e.target, e.value_code);
+// Landmarks: when automaton a must enter m and cannot get there from its initial location
+// without a transition whose guard needs b in n, b must visit n too (then its own cheapest way
+// passes through n). Adds these visits, to a fixpoint.
+void AddGuardLandmarks(const Domain& d, const StatePlan& sp, const std::vector<int>& final_loc,
+                       std::vector<std::vector<int>>& visits) {
+  std::set<std::pair<int, int>> known;
+  std::deque<std::pair<int, int>> work;
+  auto add = [&](int a, int l, bool visit) {
+    if (!known.insert({a, l}).second) return;
+    work.emplace_back(a, l);
+    if (visit) visits[a].push_back(l);
+  };
+  for (std::size_t a = 0; a < visits.size(); ++a) {
+    if (final_loc[a] >= 0) add(static_cast<int>(a), final_loc[a], false);
+    for (int v : std::vector<int>(visits[a])) add(static_cast<int>(a), v, false);
+  }
+  while (!work.empty()) {
+    auto [a, m] = work.front();
+    work.pop_front();
+    const Automaton& au = d.automata[a];
+    if (m == sp.initial[a]) continue;
+    std::vector<std::pair<int, int>> needs;
+    for (const Transition& t : au.transitions) RequiredLocations(t.guard, needs);
+    for (auto [b, n] : needs)
+      if (!known.count({b, n}) && !ReachableWithout(au, sp.initial[a], m, b, n)) add(b, n, true);
   }
 }
+
+}  // namespace
 
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks) {
   switch (objective) {
@@ -87,6 +131,7 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
     add_visits(t.event1);
     add_visits(t.event2);
   }
+  AddGuardLandmarks(d, sp, final_loc, visits);
   ObjectiveBounds b;
   for (std::size_t a = 0; a < na; ++a) {
     const Automaton& au = d.automata[a];
@@ -115,6 +160,11 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   }
   for (const auto& t : sp.temporals)
     b.makespan_ticks = std::max(b.makespan_ticks, std::lround(t.lower * static_cast<double>(tps)));
+  // The delete relaxation counts the help automata give each other (analyze/relaxed_cost.h).
+  if (auto relaxed = RelaxedCostBound(d, sp)) b.cost = std::max(b.cost, *relaxed);
+  // Guards, dwell in an episode's location and the state plan's temporal network.
+  if (auto earliest = ComputeEarliestTimes(d, sp); earliest && earliest->goal < EarliestTimes::kNever)
+    b.makespan_ticks = std::max(b.makespan_ticks, earliest->goal);
   return b;
 }
 

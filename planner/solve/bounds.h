@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "planner/analyze/earliest.h"  // RequiredLocations
 #include "planner/model/domain.h"
 #include "planner/model/state_plan.h"
 
@@ -20,13 +21,12 @@ struct ObjectiveBounds {
 // through each location an episode or temporal constraint needs it to visit (guards ignored);
 // costs add up over automata, times do not; an episode lasts at least its lower bound after its
 // location is first entered, and a temporal constraint's lower bound passes before the goal.
+// Guards add visits (landmarks): when an automaton cannot reach a location it must enter without
+// a transition whose guard needs another automaton in some location, that one must go there.
+// The makespan bound is also at least the earliest goal time (analyze/earliest.h).
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
 
 // True when a plan of this cost and makespan meets the bounds (so no plan is better).
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);
-
-// The positive location atoms (automaton, location) of e's top-level conjunction that do not use
-// a fixed stage: the locations a condition needs.
-void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
 
 }  // namespace ctb

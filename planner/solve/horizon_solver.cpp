@@ -48,7 +48,8 @@ class Solver {
  public:
   Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
-        objective_(o.objective.value_or(sp.objective)), t0_(Clock::now()) {}
+        objective_(o.objective.value_or(sp.objective)), bounds_(LowerBounds(d, sp)),
+        t0_(Clock::now()) {}
 
   // Proves that no plan strictly better than p exists with at most max_horizon events (over the
   // runs these options allow), or finds one.
@@ -138,6 +139,9 @@ class Solver {
       for (auto [b, v] : visits)
         if (b == static_cast<int>(a)) lb = std::max(lb, via(v));
     }
+    // Guards and the state plan order events too (analyze/earliest.h).
+    if (auto ev = ComputeEarliestTimes(d_, sp_, Measure::kEvents); ev && ev->goal < EarliestTimes::kNever)
+      lb = static_cast<int>(std::min<long>(std::max<long>(lb, ev->goal), o_.max_horizon));
     return std::min(lb, o_.max_horizon);
   }
 
@@ -158,6 +162,12 @@ class Solver {
     if (!than) return std::nullopt;
     auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
     return than->cost * cost_factor + than->makespan * makespan_factor;
+  }
+
+  // The proven lower bound in the units of a model with horizon h.
+  long AtLeast(int h) const {
+    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
+    return bounds_.cost * cost_factor + bounds_.makespan_ticks * makespan_factor;
   }
 
   // One member of the portfolio: a search strategy for Gecode, or the z3 engine.
@@ -198,6 +208,7 @@ class Solver {
       eo.search = z3 ? "g_first" : members[i].strategy;
       eo.redundant = o_.redundant;
       eo.better_than = BetterThan(h, better);
+      eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;
       if (i == 0 || !z3) {  // z3 builds its own model; the text is kept for failure reports
         Encoding enc = Encode(d_, sp_, info_, eo);
@@ -217,6 +228,12 @@ class Solver {
       reqs[i].minizinc = o_.minizinc;
       reqs[i].threads = o_.threads;
       reqs[i].cancel = &stop;
+      // A plan that meets the proven bound is optimal: stop every run at once (the verifier
+      // still checks it in Attempt).
+      reqs[i].on_solution = [&stop, at_least = AtLeast(h)](const Json& s) {
+        auto it = s.find("_objective");
+        if (it != s.end() && it->is_number_integer() && it->get<long>() <= at_least) stop = true;
+      };
     }
     // The first strategy starts at once; the others only when it has not decided within
     // portfolio_delay_ms, so easy problems do not pay for a second flattening.
@@ -328,6 +345,7 @@ class Solver {
       }
     }
     if (decided) AddEngine(engine_, decided->engine);
+    if (best_ && horizon_ == h && MeetsLowerBound(*best_)) return Outcome::kOptimal;
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
                                                                         : Outcome::kInfeasible;
     for (const auto& r : runs)
@@ -336,7 +354,7 @@ class Solver {
   }
 
   bool MeetsLowerBound(const Plan& p) const {
-    return MeetsLowerBounds(LowerBounds(d_, sp_), objective_, p.cost, p.makespan);
+    return MeetsLowerBounds(bounds_, objective_, p.cost, p.makespan);
   }
 
   bool Better(const Plan& a, const Plan& b) const { return BetterPlan(objective_, a, b); }
@@ -386,6 +404,7 @@ class Solver {
   const SolveOptions& o_;
   ProblemInfo info_;
   Objective objective_;
+  ObjectiveBounds bounds_;
   Clock::time_point t0_;
   std::optional<Plan> best_;
   int horizon_ = 0;

@@ -8,6 +8,8 @@
 #include <functional>
 #include <optional>
 
+#include "planner/analyze/earliest.h"
+#include "planner/solve/bounds.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
 #include "random_problem.h"
@@ -44,7 +46,9 @@ Json Value(Objective o, const Best& b) {
 class Enumerator {
  public:
   Enumerator(const Domain& d, const StatePlan& sp, long time_bound)
-      : d_(d), sp_(sp), tb_(time_bound), na_(static_cast<int>(d.automata.size())) {}
+      : d_(d), sp_(sp), tb_(time_bound), na_(static_cast<int>(d.automata.size())),
+        bounds_(LowerBounds(d, sp)), earliest_(ComputeEarliestTimes(d, sp)),
+        events_(ComputeEarliestTimes(d, sp, Measure::kEvents)) {}
 
   std::optional<Best> Run() {
     for (int g = 0; g <= kMaxEvents; ++g) {
@@ -60,6 +64,9 @@ class Enumerator {
     return best_;
   }
   long plans_checked() const { return checked_; }
+  // Verified plans that beat a lower bound the planner relies on (solve/bounds.h,
+  // analyze/earliest.h): must stay empty.
+  const std::vector<std::string>& bound_violations() const { return violations_; }
 
  private:
   void Times(Trajectory& t, int k) {
@@ -140,15 +147,44 @@ class Enumerator {
     });
     if (VerifyTrajectory(t, d_, sp_, 1).empty()) {
       Best b{TrajectoryCost(t, d_), t.events[t.goal_event]};
+      CheckBounds(t, b);
       if (!best_ || Better(sp_.objective, b, *best_)) best_ = b;
     }
     std::swap(t.fired, sorted);
+  }
+
+  // Every valid plan obeys the bounds: cost, makespan, and each location's first entry.
+  void CheckBounds(const Trajectory& t, const Best& b) {
+    if (b.cost < bounds_.cost)
+      violations_.push_back("cost " + std::to_string(b.cost) + " < bound " + std::to_string(bounds_.cost));
+    if (b.makespan < bounds_.makespan_ticks)
+      violations_.push_back("makespan " + std::to_string(b.makespan) + " < bound " +
+                            std::to_string(bounds_.makespan_ticks));
+    if (events_ && t.goal_event < events_->goal)
+      violations_.push_back("goal event " + std::to_string(t.goal_event) + " < earliest " +
+                            std::to_string(events_->goal));
+    if (!earliest_ || !events_) return;
+    for (int a = 0; a < na_; ++a)
+      for (int k = 0; k <= t.goal_event; ++k) {
+        const int l = t.locations[a][k];
+        bool first = true;
+        for (int j = 0; j < k; ++j) first = first && t.locations[a][j] != l;
+        if (first && (t.events[k] < earliest_->arrival[a][l] || k < events_->arrival[a][l]))
+          violations_.push_back("automaton " + std::to_string(a) + " enters location " +
+                                std::to_string(l) + " at event " + std::to_string(k) + ", time " +
+                                std::to_string(t.events[k]) + " < earliest " +
+                                std::to_string(earliest_->arrival[a][l]) + " s, event " +
+                                std::to_string(events_->arrival[a][l]));
+      }
   }
 
   const Domain& d_;
   const StatePlan& sp_;
   long tb_;
   int na_;
+  ObjectiveBounds bounds_;
+  std::optional<EarliestTimes> earliest_, events_;
+  std::vector<std::string> violations_;
   std::optional<Best> best_;
   long checked_ = 0;
 };
@@ -180,6 +216,8 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
     const long time_bound = lower_sum + kMaxEvents * max_lo + 1;
     Enumerator en(*d, *sp, time_bound);
     std::optional<Best> truth = en.Run();
+    EXPECT_TRUE(en.bound_violations().empty())
+        << "seed " << seed << ": " << en.bound_violations().front() << "\n" << p.Describe();
     // Gecode (the default portfolio) and the z3 engine alone must both find the true optimum.
     for (const char* search : {"portfolio", "z3"}) {
       SolveOptions o;

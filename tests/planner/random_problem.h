@@ -28,6 +28,7 @@ struct RandomShape {
   bool cross_guards = true;   // guards reading another automaton's location
   bool rewrite = true;        // equivalent rewritings of the goal and maintenance
   bool shared_events = true;
+  bool state_refs = true;     // conditions that read an episode's or a temporal constraint's state
 };
 
 class ProblemGenerator {
@@ -162,6 +163,12 @@ class ProblemGenerator {
                                          names_[a] + "l[i+1]==" + RandomLoc(a)
                                    : StateAtom(a, true);
       std::string e2 = StateAtom(b, true);
+      // The thesis' form: the second event needs the constraint active; or an event after an
+      // episode's end.
+      if (shape_.state_refs && Chance(0.25))
+        e2 += " /\\ temporalAcceptConstraint_Traj_T" + std::to_string(q) + "[i]==tempActive";
+      if (shape_.state_refs && ne > 0 && Chance(0.15))
+        e1 += " /\\ epAcceptAutomatonTraj_E0[i]==epAccepted";
       int lo = Int(0, shape_.max_bound), hi = lo + Int(0, 4);
       temporal["T" + std::to_string(q)] = {{"accepting_event1_constraint", e1},
                                            {"accepting_event2_constraint", e2},

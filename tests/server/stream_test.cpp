@@ -385,12 +385,13 @@ TEST(ServiceStream, AnInvalidRequestEndsWithAnErrorEvent) {
   }
 }
 
-// search_rescue test prompt 2 asks for the fastest rescue: the first plan comes within seconds,
-// the proof that none is faster takes longer.
+// search_rescue test prompt 1 (either robot may rescue either person), fastest rescue: the first
+// plan comes within a second, a faster one (which meets the proven bound) seconds later. (Test
+// prompt 2 used to be slow here; its first plan now meets the bound, so it ends at once.)
 Json SlowSolve() {
   return {{"domain", "search_rescue"},
-          {"state_plan", Example("search_rescue/test2.json")},
-          {"options", {{"time_limit_ms", 60000}}},
+          {"state_plan", Example("search_rescue/test1.json")},
+          {"options", {{"time_limit_ms", 60000}, {"objective", "makespan"}}},
           {"stream", true}};
 }
 

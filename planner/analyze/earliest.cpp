@@ -1,0 +1,272 @@
+#include "planner/analyze/earliest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <utility>
+
+#include "planner/expr/normalize.h"
+
+namespace ctb {
+
+namespace {
+
+constexpr long kNever = EarliestTimes::kNever;
+
+long Add(long a, long b) { return std::min(kNever, a + b); }
+
+long Ticks(double seconds, long tps) { return std::lround(seconds * static_cast<double>(tps)); }
+
+using AtomBound = std::function<long(const Expr&)>;
+
+// The earliest time e can hold when each atom holds no earlier than `atom` says. What it cannot
+// bound (negations, implications, true) counts as 0: a lower bound must never overshoot.
+long EarliestOf(const Expr& e, const AtomBound& atom) {
+  switch (e.op) {
+    case Expr::Op::kFalse: return kNever;
+    case Expr::Op::kAtom: return atom(e);
+    case Expr::Op::kAnd:
+      return std::max(EarliestOf(e.kids[0], atom), EarliestOf(e.kids[1], atom));
+    case Expr::Op::kOr:
+      return std::min(EarliestOf(e.kids[0], atom), EarliestOf(e.kids[1], atom));
+    default: return 0;
+  }
+}
+
+bool PositiveLocation(const Expr& e) {
+  return e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
+         e.index.kind != IndexKind::kFixed;
+}
+
+std::vector<std::pair<int, int>> Pinned(const Expr& e) {
+  std::vector<std::pair<int, int>> out;
+  RequiredLocations(e, out);
+  return out;
+}
+
+// True when e's top-level conjunction needs temporal constraint q active or accepted (its state
+// at the stage before the event is 1 or 2), so the event comes strictly after q's first event.
+bool NeedsOwnActive(const Expr& e, int q) {
+  std::vector<const Expr*> parts;
+  Flatten(e, Expr::Op::kAnd, parts);
+  for (const Expr* p : parts)
+    if (p->op == Expr::Op::kAtom && p->var_kind == VarKind::kTemporalState && p->target == q &&
+        !p->not_equal && (p->value_code == 1 || p->value_code == 2))
+      return true;
+  return false;
+}
+
+class Earliest {
+ public:
+  Earliest(const Domain& d, const StatePlan& sp, Measure measure)
+      : d_(d), sp_(sp), tps_(std::max(1L, std::lround(1.0 / d.time_resolution))),
+        events_(measure == Measure::kEvents) {}
+
+  std::optional<EarliestTimes> Run() {
+    ComputeDwell();
+    if (!SettleArrivals()) return std::nullopt;
+    SettleStatePlan();
+    EarliestTimes out;
+    out.arrival = arr_;
+    out.goal = std::max(GoalTime(), ReturnTime());
+    return out;
+  }
+
+ private:
+  // An episode that starts exactly when a enters l and holds a in l keeps a there, from its first
+  // entry, for at least its lower bound.
+  void ComputeDwell() {
+    dwell_.resize(d_.automata.size());
+    for (std::size_t a = 0; a < d_.automata.size(); ++a)
+      dwell_[a].assign(d_.automata[a].locations.size(), 0);
+    if (events_) return;
+    for (const Episode& ep : sp_.episodes) {
+      const Expr& acc = ep.accepting.expr;
+      if (ep.accepting.info.IsChange() || !PositiveLocation(acc)) continue;
+      for (auto [a, l] : Pinned(ep.state.expr))
+        if (a == acc.target && l == acc.value_code)
+          dwell_[a][l] = std::max(dwell_[a][l], Ticks(ep.lower, tps_));
+    }
+  }
+
+  // A transition's least length: its lower duration, or one event.
+  long Duration(const Transition& t) const { return events_ ? 1 : Ticks(t.duration.lo, tps_); }
+
+  long LocationAtom(const Expr& atom) const {
+    if (atom.var_kind != VarKind::kLocation || atom.not_equal || atom.index.kind == IndexKind::kFixed)
+      return 0;
+    return arr_[atom.target][atom.value_code];
+  }
+
+  // First entries, settled from above (Bellman-Ford rounds): a transition from l fires no earlier
+  // than l's first entry plus its lower duration and l's dwell, nor before its guard can hold.
+  // A settled vector satisfies every rule, which is what the argument needs.
+  bool SettleArrivals() {
+    std::size_t nodes = 0;
+    arr_.resize(d_.automata.size());
+    for (std::size_t a = 0; a < d_.automata.size(); ++a) {
+      arr_[a].assign(d_.automata[a].locations.size(), kNever);
+      arr_[a][sp_.initial[a]] = 0;
+      nodes += arr_[a].size();
+    }
+    const AtomBound atom = [this](const Expr& e) { return LocationAtom(e); };
+    for (std::size_t round = 0; round <= nodes + 1; ++round) {
+      bool changed = false;
+      for (std::size_t a = 0; a < d_.automata.size(); ++a)
+        for (const Transition& t : d_.automata[a].transitions) {
+          const long from = arr_[a][t.from];
+          if (from >= kNever) continue;
+          long fire = std::max({Add(from, Duration(t)), Add(from, dwell_[a][t.from]),
+                                Add(EarliestOf(t.guard, atom), events_ ? 1 : 0)});
+          if (fire < arr_[a][t.to]) {
+            arr_[a][t.to] = fire;
+            changed = true;
+          }
+        }
+      if (!changed) return true;
+    }
+    return false;
+  }
+
+  // An atom of a state-plan condition at an event: a location is entered no later than the event
+  // (at [i] of a change condition, no later than the event before); an episode (temporal
+  // constraint) read as active or accepted has started (opened) or ended (been accepted).
+  long EventAtom(const Expr& atom) const {
+    if (atom.not_equal) return 0;
+    switch (atom.var_kind) {
+      case VarKind::kLocation: return LocationAtom(atom);
+      case VarKind::kEpisodeState:
+        return atom.value_code == 1 ? ep_s_[atom.target] : atom.value_code == 2 ? ep_e_[atom.target] : 0;
+      case VarKind::kTemporalState:
+        return atom.value_code == 1 ? tc_a_[atom.target] : atom.value_code == 2 ? tc_b_[atom.target] : 0;
+      default: return 0;
+    }
+  }
+
+  long At(const Condition& c) const {
+    return EarliestOf(c.expr, [this](const Expr& e) { return EventAtom(e); });
+  }
+
+  long& Node(const Endpoint& p) {
+    switch (p.kind) {
+      case EndpointKind::kEpisodeStart: return ep_s_[p.index];
+      case EndpointKind::kEpisodeEnd: return ep_e_[p.index];
+      case EndpointKind::kEvent1: return tc_1_[p.index];
+      case EndpointKind::kEvent2: break;
+    }
+    return tc_2_[p.index];
+  }
+
+  // One round of the state plan's network; true when some time grew.
+  bool Round() {
+    bool changed = false;
+    auto raise = [&changed](long& x, long v) {
+      if (v > x) x = v, changed = true;
+    };
+    for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+      raise(ep_s_[p], At(sp_.episodes[p].accepting));
+      raise(ep_e_[p], Add(ep_s_[p], events_ ? 1 : Ticks(sp_.episodes[p].lower, tps_)));
+    }
+    for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+      const Temporal& tc = sp_.temporals[q];
+      raise(tc_1_[q], At(tc.event1));
+      raise(tc_2_[q], At(tc.event2));
+      const int qi = static_cast<int>(q);
+      long open = NeedsOwnActive(tc.event2.expr, qi)   ? tc_1_[q]
+                  : NeedsOwnActive(tc.event1.expr, qi) ? tc_2_[q]
+                                                       : std::min(tc_1_[q], tc_2_[q]);
+      raise(tc_a_[q], open);
+      const long gap = events_ ? (tc.lower > 0 ? 1 : 0) : Ticks(tc.lower, tps_);
+      raise(tc_b_[q], std::max({tc_1_[q], tc_2_[q], Add(tc_a_[q], gap)}));
+    }
+    for (const SharedEvent& ev : sp_.events) {
+      long t = 0;
+      for (const Endpoint& p : ev.endpoints) t = std::max(t, Node(p));
+      for (const Endpoint& p : ev.endpoints) raise(Node(p), t);
+    }
+    return changed;
+  }
+
+  // Grown from 0 (every round keeps each time a lower bound), until nothing changes or the round
+  // limit; stopping early only weakens the bound.
+  void SettleStatePlan() {
+    const std::size_t ne = sp_.episodes.size(), nt = sp_.temporals.size();
+    ep_s_.assign(ne, 0);
+    ep_e_.assign(ne, 0);
+    tc_1_.assign(nt, 0);
+    tc_2_.assign(nt, 0);
+    tc_a_.assign(nt, 0);
+    tc_b_.assign(nt, 0);
+    for (std::size_t round = 0; round < 2 * (ne + 2 * nt) + 4; ++round)
+      if (!Round()) break;
+  }
+
+  long GoalTime() const {
+    long t = At(sp_.goal);
+    for (long e : ep_e_) t = std::max(t, e);
+    for (long b : tc_b_) t = std::max(t, b);
+    return t;
+  }
+
+  // Least time (events) over lower durations (transitions) from entering m to entering `to`,
+  // guards ignored.
+  long Distance(int a, int m, int to) const {
+    const Automaton& au = d_.automata[a];
+    std::vector<long> dist(au.locations.size(), kNever);
+    using Item = std::pair<long, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
+    dist[m] = 0;
+    q.push({0, m});
+    while (!q.empty()) {
+      auto [dl, l] = q.top();
+      q.pop();
+      if (dl > dist[l]) continue;
+      for (const Transition& t : au.transitions) {
+        long w = Add(dl, Duration(t));
+        if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
+      }
+    }
+    return dist[to];
+  }
+
+  // An episode holds a in l' up to its end; the goal pins a to l != l', so a leaves l' no earlier
+  // than the episode's end and then travels from the location it enters to l.
+  long ReturnTime() const {
+    if (sp_.goal.info.IsChange()) return 0;
+    long best = 0;
+    for (auto [a, l] : Pinned(sp_.goal.expr))
+      for (std::size_t p = 0; p < sp_.episodes.size(); ++p)
+        for (auto [b, held] : Pinned(sp_.episodes[p].state.expr)) {
+          if (b != a || held == l) continue;
+          long leave = kNever;
+          for (const Transition& t : d_.automata[a].transitions)
+            if (t.from == held && t.to != held) leave = std::min(leave, Distance(a, t.to, l));
+          if (leave < kNever) best = std::max(best, Add(ep_e_[p], leave));
+        }
+    return best;
+  }
+
+  const Domain& d_;
+  const StatePlan& sp_;
+  const long tps_;
+  const bool events_;
+  std::vector<std::vector<long>> dwell_, arr_;
+  std::vector<long> ep_s_, ep_e_, tc_1_, tc_2_, tc_a_, tc_b_;
+};
+
+}  // namespace
+
+void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
+  std::vector<const Expr*> parts;
+  Flatten(e, Expr::Op::kAnd, parts);
+  for (const Expr* p : parts)
+    if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
+}
+
+std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,
+                                                  Measure measure) {
+  return Earliest(d, sp, measure).Run();
+}
+
+}  // namespace ctb
