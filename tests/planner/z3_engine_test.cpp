@@ -135,6 +135,37 @@ TEST(Z3Backend, CancelStopsPromptly) {
   EXPECT_EQ(r.status, RunResult::Status::kCancelled) << r.error;
 }
 
+// search_rescue test 1 at horizon 20: a first plan within seconds, the optimizer's proof later.
+TEST(Z3Backend, CancelDuringOptimisationStopsPromptlyAndKeepsThePlan) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  OneModel m(d, RescuePlan(), 20, Objective::kMakespan);
+  m.req.time_limit_ms = 60000;
+  std::atomic<bool> cancel{false};
+  std::atomic<long> first_at{-1};
+  const auto t0 = Clock::now();
+  m.req.cancel = &cancel;
+  m.req.on_solution = [&](const Json&) {
+    if (first_at < 0) first_at = MsSince(t0);
+  };
+  std::thread t([&] {
+    while (first_at < 0 && MsSince(t0) < 30000)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    cancel = true;
+  });
+  RunResult r = Z3EngineBackend().Run(m.req);
+  t.join();
+  ASSERT_GE(first_at, 0) << "no plan in 30 s";
+  if (r.status == RunResult::Status::kOptimal) GTEST_SKIP() << "proved before the cancel";
+  EXPECT_EQ(r.status, RunResult::Status::kCancelled) << r.error;
+  EXPECT_LT(MsSince(t0) - first_at, 1500);
+  ASSERT_TRUE(r.best);
+  std::string why;
+  auto traj = ExtractTrajectory(*r.best, d, RescuePlan(), 20, why);
+  ASSERT_TRUE(traj) << why;
+  EXPECT_TRUE(VerifyTrajectory(*traj, d, RescuePlan(), 1).empty());
+}
+
 TEST(Z3Backend, WithoutTheProblemIsAnErrorNotACrash) {
   RunRequest req;
   req.model = "var 0..1: x; solve satisfy;";
