@@ -1,5 +1,6 @@
-// Solving one model with z3: build the terms, find a first plan by satisfiability, then let z3's
-// optimizer prove or improve it, until the time limit or cancellation interrupts the context.
+// Solving one model with z3: build the terms, find plans by satisfiability with a tightening
+// bound, hand a stalled search to z3's optimizer, until the time limit or cancellation interrupts
+// the context.
 #include "planner/smt/z3_engine.h"
 
 #include <algorithm>
@@ -155,7 +156,7 @@ void Keep(const Model& m, const z3::model& mod, const Z3Limits& limits, Clock::t
   if (limits.on_solution) limits.on_solution(sol);
 }
 
-// After a first plan: z3's optimizer on the model with "objective < first". It closed
+// After a plan: z3's optimizer on the model with "objective < best". It closed
 // search_rescue 3 robots (makespan) in 12 to 45 s where repeated checks with a tightening bound
 // gave no proof in 40 to 60 s (z3's times vary much from run to run). sat: its model is
 // optimal; unsat: the first plan is. No intermediate plans are reported during this phase.
@@ -181,21 +182,35 @@ void Optimize(Model& m, const Z3Limits& limits, Clock::time_point t0, Z3Result& 
   r.status = Cancelled(limits) ? Z3Result::Status::kCancelled : Z3Result::Status::kFeasible;
 }
 
-// A first plan by satisfiability (reported at once), then the optimizer.
+// Plans by satisfiability with a tightening bound while each check is quick (every plan is
+// reported at once; unsat after a plan is a proof); when a check stalls past the budget (a fifth
+// of the time, at least a second), the optimizer takes over from the best plan.
 void Search(Model& m, z3::solver& s, const Z3Limits& limits, Clock::time_point t0,
             Z3Result& r) {
   const Clock::time_point deadline = t0 + std::chrono::milliseconds(limits.time_limit_ms);
   Watchdog dog(m.z, deadline, limits.cancel);
-  z3::params p(m.z);
-  p.set("timeout", TimeLeft(limits, t0));
-  s.set(p);
-  z3::check_result c = s.check();
-  if (c == z3::unsat) {
-    r.status = Z3Result::Status::kInfeasible;
-    return;
+  const long budget = std::max(1000L, (limits.time_limit_ms - MsSince(t0)) / 5);
+  const Clock::time_point hand_over = Clock::now() + std::chrono::milliseconds(budget);
+  while (!Cancelled(limits) && !dog.Fired()) {
+    const bool loop = r.solutions == 0 || Clock::now() < hand_over;
+    if (!loop) return Optimize(m, limits, t0, r);
+    const long until_hand_over =
+        std::chrono::duration_cast<std::chrono::milliseconds>(hand_over - Clock::now()).count();
+    unsigned timeout = TimeLeft(limits, t0);
+    if (r.solutions > 0) timeout = std::min<unsigned>(timeout, std::max(1L, until_hand_over));
+    z3::params p(m.z);
+    p.set("timeout", timeout);
+    s.set(p);
+    z3::check_result c = s.check();
+    if (c == z3::unsat) {
+      r.status = r.solutions > 0 ? Z3Result::Status::kOptimal : Z3Result::Status::kInfeasible;
+      return;
+    }
+    if (c != z3::sat && r.solutions == 0) break;  // interrupted, or z3 gave up, before any plan
+    if (c != z3::sat) continue;  // a stalled check: the optimizer next, unless interrupted
+    Keep(m, s.get_model(), limits, t0, r);
+    s.add(m.objective < m.Val((*r.best)["objective"].get<long>()));
   }
-  if (c == z3::sat) Keep(m, s.get_model(), limits, t0, r);
-  if (c == z3::sat && !Cancelled(limits) && !dog.Fired()) return Optimize(m, limits, t0, r);
   if (Cancelled(limits))
     r.status = Z3Result::Status::kCancelled;
   else

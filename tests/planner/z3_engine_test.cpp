@@ -135,8 +135,8 @@ TEST(Z3Backend, CancelStopsPromptly) {
   EXPECT_EQ(r.status, RunResult::Status::kCancelled) << r.error;
 }
 
-// search_rescue test 1 at horizon 20: a first plan within seconds, the optimizer's proof later.
-TEST(Z3Backend, CancelDuringOptimisationStopsPromptlyAndKeepsThePlan) {
+// search_rescue test 1 at horizon 20: a first plan within seconds, the proof later.
+TEST(Z3Backend, CancelAfterAFirstPlanStopsPromptlyAndKeepsIt) {
   const Domain& d = testing::ShippedDomain("search_rescue");
   OneModel m(d, RescuePlan(), 20, Objective::kMakespan);
   m.req.time_limit_ms = 60000;
