@@ -1,6 +1,6 @@
 // z3 as a second solving engine (issue 9): for one horizon, the model that Encode() prints as
 // MiniZinc (planner/encode/encoder.h) is built as z3 terms straight from the checked syntax
-// trees, and solved by a satisfiability call for a first plan, then z3's optimizer.
+// trees, and solved by satisfiability calls with a tightening bound, then z3's optimizer.
 //
 // Contract: the same EncodeOptions give the same set of solutions and the same objective as the
 // MiniZinc model (docs/encoding.md, "A second engine: z3"); each solution is the JSON object the
