@@ -49,9 +49,11 @@ Model::Model(z3::context& ctx, const ModelSpec& spec)
     for (int k = 0; k <= H; ++k) {
       N[a].push_back(Int("N_" + std::to_string(a) + "_" + std::to_string(k)));
       loc[a].emplace_back();
-      for (std::size_t l = 0; l < au.locations.size(); ++l) loc[a][k].push_back(Bool(Name("L", a, k, l)));
+      for (std::size_t l = 0; l < au.locations.size(); ++l)
+        loc[a][k].push_back(Bool(Name("L", a, k, l)));
       cmd[a].emplace_back();
-      for (std::size_t c = 0; c <= au.commands.size(); ++c) cmd[a][k].push_back(Bool(Name("U", a, k, c)));
+      for (std::size_t c = 0; c <= au.commands.size(); ++c)
+        cmd[a][k].push_back(Bool(Name("U", a, k, c)));
       if (k == H) continue;
       fire[a].emplace_back();
       z3::expr_vector any(z);
@@ -109,8 +111,13 @@ z3::expr Model::At(const Exprs& arr, const OrderVar& idx, const std::string& nam
   return v;
 }
 
-z3::expr Model::EpStateIs(int p, int k, int code) { return StateIs(*this, ep_s[p], ep_e[p], k, code); }
-z3::expr Model::TcStateIs(int q, int k, int code) { return StateIs(*this, tc_a[q], tc_b[q], k, code); }
+z3::expr Model::EpStateIs(int p, int k, int code) {
+  return StateIs(*this, ep_s[p], ep_e[p], k, code);
+}
+
+z3::expr Model::TcStateIs(int q, int k, int code) {
+  return StateIs(*this, tc_a[q], tc_b[q], k, code);
+}
 
 void Model::One(const Exprs& xs, bool exactly) {
   if (exactly) {

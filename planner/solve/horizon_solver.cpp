@@ -182,7 +182,8 @@ class Solver {
     SolverBackend* gecode = &Backend();
     if (o_.search == "z3") return {{"z3", &Z3EngineBackend()}};
     if (o_.search != "portfolio") return {{o_.search, gecode}};
-    std::vector<Member> all = {{"g_first", gecode}, {"tc_first", gecode}, {"z3", &Z3EngineBackend()}};
+    std::vector<Member> all = {
+        {"g_first", gecode}, {"tc_first", gecode}, {"z3", &Z3EngineBackend()}};
     all.resize(std::clamp(o_.portfolio, 1, 3));
     return all;
   }

@@ -106,7 +106,8 @@ const StatePlan& RescuePlan() {
 }
 
 struct Hard : OneModel {
-  Hard() : OneModel(testing::ShippedDomain("search_rescue"), RescuePlan(), 40, Objective::kMakespan) {}
+  Hard()
+      : OneModel(testing::ShippedDomain("search_rescue"), RescuePlan(), 40, Objective::kMakespan) {}
 };
 
 TEST(Z3Backend, TimeLimitIsRespected) {
