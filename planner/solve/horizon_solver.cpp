@@ -319,7 +319,8 @@ class Solver {
         if (o_.on_progress)
           o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
                           {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
-                          {"elapsed_ms", MsSince(t0_)}});
+                          {"elapsed_ms", MsSince(t0_)},
+                          {"bound", BoundJson(bounds_, objective_, info_.ticks_per_second)}});
       }
     }
     if (best_ && horizon_ == h && MeetsLowerBound(*best_)) return Outcome::kOptimal;

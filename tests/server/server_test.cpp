@@ -456,7 +456,7 @@ TEST(Service, AClientThatGoesAwayHasItsSolverKilled) {
   {
     httplib::Client c = s.Client();
     c.set_read_timeout(1, 0);  // gives up after 1 s and closes its connection
-    auto r = c.Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    auto r = c.Post("/solve", SolveBody("assembly/test.json", {{"objective", "makespan"}, {"max_horizon", 64}, {"time_limit_ms", 60000}}).dump(), "application/json");
     EXPECT_FALSE(r) << "the solve takes longer than the client waits";
   }
   bool gone = false;
@@ -479,7 +479,7 @@ TEST(Service, ShutdownDuringASolveKillsTheSolverAndExitsZero) {
   int before = SolverProcesses();
   Server s({}, {{"shutdown_grace_ms", 500}});
   auto pending = std::async(std::launch::async, [&] {
-    auto r = s.Client().Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    auto r = s.Client().Post("/solve", SolveBody("assembly/test.json", {{"objective", "makespan"}, {"max_horizon", 64}, {"time_limit_ms", 60000}}).dump(), "application/json");
     return r ? r->status : -1;
   });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));

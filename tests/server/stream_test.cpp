@@ -395,6 +395,15 @@ Json SlowSolve() {
           {"stream", true}};
 }
 
+// The assembly test prompt, fastest, looking as far as 64 events (the server's limit): its bound (1 s) is far below
+// the plan (4 s), so the search runs to the time limit.
+Json VerySlowSolve() {
+  return {{"domain", "assembly"},
+          {"state_plan", Example("assembly/test.json")},
+          {"options", {{"time_limit_ms", 60000}, {"objective", "makespan"}, {"max_horizon", 64}}},
+          {"stream", true}};
+}
+
 TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
   Server s;
   SseClient c(s.port(), SlowSolve(), "/solve");
@@ -405,6 +414,12 @@ TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
   for (const auto& e : events)
     if (e.name == "solution" && first_solution < 0) first_solution = e.at_ms;
   ASSERT_GE(first_solution, 0) << ::testing::PrintToString(Names(events));
+  // Every improving plan says how far from optimal it may be.
+  for (const auto& e : events)
+    if (e.name == "solution") {
+      ASSERT_TRUE(e.data.contains("bound")) << e.data.dump();
+      EXPECT_LE(e.data["bound"].get<double>(), e.data["objective"].get<double>()) << e.data.dump();
+    }
   // Read off the wire well before the answer, not flushed together with it.
   EXPECT_LT(first_solution + 500, events.back().at_ms);
   EXPECT_EQ(events.back().data["status"], "optimal");
@@ -414,7 +429,7 @@ TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
 TEST(ServiceStream, AClientThatHangsUpCancelsTheSolver) {
   Server s;
   {
-    SseClient c(s.port(), SlowSolve(), "/solve");
+    SseClient c(s.port(), VerySlowSolve(), "/solve");
     std::optional<Event> e;
     while ((e = c.Next()) && e->name != "solution") {
     }
