@@ -248,22 +248,7 @@ class Earliest {
   // Least time (events) over lower durations (transitions) from entering m to entering `to`,
   // guards ignored.
   long Distance(int a, int m, int to) const {
-    const Automaton& au = d_.automata[a];
-    std::vector<long> dist(au.locations.size(), kNever);
-    using Item = std::pair<long, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
-    dist[m] = 0;
-    q.push({0, m});
-    while (!q.empty()) {
-      auto [dl, l] = q.top();
-      q.pop();
-      if (dl > dist[l]) continue;
-      for (const Transition& t : au.transitions) {
-        long w = Add(dl, Duration(t));
-        if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
-      }
-    }
-    return dist[to];
+    return ShortestFrom(d_.automata[a], m, [this](const Transition& t) { return Duration(t); })[to];
   }
 
   // An episode holds a in l' up to its end; the goal pins a to l != l', so a leaves l' no earlier
@@ -298,6 +283,25 @@ void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
   Flatten(e, Expr::Op::kAnd, parts);
   for (const Expr* p : parts)
     if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
+}
+
+std::vector<long> ShortestFrom(const Automaton& a, int from,
+                               const std::function<long(const Transition&)>& weight) {
+  std::vector<long> dist(a.locations.size(), kNever);
+  using Item = std::pair<long, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
+  dist[from] = 0;
+  q.push({0, from});
+  while (!q.empty()) {
+    auto [d, l] = q.top();
+    q.pop();
+    if (d > dist[l]) continue;
+    for (const Transition& t : a.transitions) {
+      const long w = Add(d, weight(t));
+      if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
+    }
+  }
+  return dist;
 }
 
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,
