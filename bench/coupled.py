@@ -79,6 +79,12 @@ def problems(tmp, quick):
         d = domain_file(f"rescue{n}", dom)
         for objective in objectives:
             add(f"search_rescue, {n} robots", d, gen_scaled.rescue_plan(n), objective, size)
+    # The thesis benchmark (independent copies of test prompt 1): nothing may get slower here.
+    for n, size in ((1, "small"), (4, "large"), (16, "large")):
+        dom = gen_domains.presentation(n)
+        dom["name"] = f"presentation_x{n}"
+        add(f"thesis copies {n}x (independent), test prompt 1 each", domain_file(f"copies{n}", dom),
+            gen_scaled.presentation_plan(n), "cost", size)
     # Infeasible requests.
     add("infeasible: deadline below the warm-up", "presentation",
         load(os.path.join(ROOT, "tests", "data", "deadline_infeasible.json")), "cost")

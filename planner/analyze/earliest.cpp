@@ -158,6 +158,40 @@ class Earliest {
     return tc_2_[p.index];
   }
 
+  // The locations c pins at its event (L[a,k]): every atom of a state condition, the [i+1] atoms
+  // of a change condition. With `entered`, only those a change condition shows being entered at
+  // the event (a[i]==x /\ a[i+1]==l, x != l).
+  std::vector<std::pair<int, int>> PinnedAtEvent(const Condition& c, bool entered) const {
+    std::vector<const Expr*> parts;
+    Flatten(c.expr, Expr::Op::kAnd, parts);
+    const bool change = c.info.IsChange();
+    std::vector<std::pair<int, int>> now, before, out;
+    for (const Expr* p : parts) {
+      if (!PositiveLocation(*p)) continue;
+      bool at_i = change && p->index.kind == IndexKind::kI;
+      (at_i ? before : now).emplace_back(p->target, p->value_code);
+    }
+    if (!entered) return now;
+    for (auto [a, l] : now)
+      for (auto [b, x] : before)
+        if (a == b && x != l) out.emplace_back(a, l);
+    return out;
+  }
+
+  // When `later` holds strictly after `earlier`: the least travel from what `earlier` pins to
+  // what `later` pins, per automaton. In events, from any pinned location; in time, only from a
+  // location entered at the earlier event (its entry time is then that event's).
+  long Travel(const Condition& earlier, const Condition& later) const {
+    long best = 0;
+    for (auto [a, from] : PinnedAtEvent(earlier, !events_))
+      for (auto [b, to] : PinnedAtEvent(later, false))
+        if (a == b && from != to) {
+          long d = Distance(a, from, to);
+          if (d < kNever) best = std::max(best, d);
+        }
+    return best;
+  }
+
   // One round of the state plan's network; true when some time grew.
   bool Round() {
     bool changed = false;
@@ -177,6 +211,8 @@ class Earliest {
                   : NeedsOwnActive(tc.event1.expr, qi) ? tc_2_[q]
                                                        : std::min(tc_1_[q], tc_2_[q]);
       raise(tc_a_[q], open);
+      if (NeedsOwnActive(tc.event2.expr, qi)) raise(tc_2_[q], Add(tc_1_[q], Travel(tc.event1, tc.event2)));
+      if (NeedsOwnActive(tc.event1.expr, qi)) raise(tc_1_[q], Add(tc_2_[q], Travel(tc.event2, tc.event1)));
       const long gap = events_ ? (tc.lower > 0 ? 1 : 0) : Ticks(tc.lower, tps_);
       raise(tc_b_[q], std::max({tc_1_[q], tc_2_[q], Add(tc_a_[q], gap)}));
     }
@@ -212,22 +248,7 @@ class Earliest {
   // Least time (events) over lower durations (transitions) from entering m to entering `to`,
   // guards ignored.
   long Distance(int a, int m, int to) const {
-    const Automaton& au = d_.automata[a];
-    std::vector<long> dist(au.locations.size(), kNever);
-    using Item = std::pair<long, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
-    dist[m] = 0;
-    q.push({0, m});
-    while (!q.empty()) {
-      auto [dl, l] = q.top();
-      q.pop();
-      if (dl > dist[l]) continue;
-      for (const Transition& t : au.transitions) {
-        long w = Add(dl, Duration(t));
-        if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
-      }
-    }
-    return dist[to];
+    return ShortestFrom(d_.automata[a], m, [this](const Transition& t) { return Duration(t); })[to];
   }
 
   // An episode holds a in l' up to its end; the goal pins a to l != l', so a leaves l' no earlier
@@ -262,6 +283,25 @@ void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out) {
   Flatten(e, Expr::Op::kAnd, parts);
   for (const Expr* p : parts)
     if (PositiveLocation(*p)) out.emplace_back(p->target, p->value_code);
+}
+
+std::vector<long> ShortestFrom(const Automaton& a, int from,
+                               const std::function<long(const Transition&)>& weight) {
+  std::vector<long> dist(a.locations.size(), kNever);
+  using Item = std::pair<long, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
+  dist[from] = 0;
+  q.push({0, from});
+  while (!q.empty()) {
+    auto [d, l] = q.top();
+    q.pop();
+    if (d > dist[l]) continue;
+    for (const Transition& t : a.transitions) {
+      const long w = Add(d, weight(t));
+      if (t.from == l && w < dist[t.to]) dist[t.to] = w, q.push({w, t.to});
+    }
+  }
+  return dist;
 }
 
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,

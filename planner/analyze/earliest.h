@@ -16,6 +16,7 @@
 // docs/encoding.md. Depends on the model and the expression language only; thread-safe.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -40,6 +41,11 @@ struct EarliestTimes {
 // The positive location atoms (automaton, location) of e's top-level conjunction that do not use
 // a fixed stage: the locations a condition needs.
 void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
+
+// The least total weight of a path from `from` to every location of the automaton (guards
+// ignored); EarliestTimes::kNever where there is none. Weights must be non-negative.
+std::vector<long> ShortestFrom(const Automaton& a, int from,
+                               const std::function<long(const Transition&)>& weight);
 
 // nullopt when the fixpoint does not settle within its round limit (then no bound is claimed).
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,

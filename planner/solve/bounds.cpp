@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <limits>
-#include <queue>
 #include <set>
 #include <utility>
 #include <vector>
@@ -15,30 +13,14 @@ namespace ctb {
 
 namespace {
 
-constexpr long kUnreachable = std::numeric_limits<long>::max() / 4;
+constexpr long kUnreachable = EarliestTimes::kNever;
 
 // Cheapest way, by cost or by the transitions' lower durations (ticks), from `from` to every
 // location of the automaton; kUnreachable where there is none.
 std::vector<long> Shortest(const Automaton& a, int from, bool by_time, long tps) {
-  std::vector<long> dist(a.locations.size(), kUnreachable);
-  using Item = std::pair<long, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
-  dist[from] = 0;
-  q.push({0, from});
-  while (!q.empty()) {
-    auto [d, l] = q.top();
-    q.pop();
-    if (d > dist[l]) continue;
-    for (const auto& t : a.transitions) {
-      if (t.from != l) continue;
-      long w = by_time ? std::lround(t.duration.lo * static_cast<double>(tps)) : t.cost;
-      if (d + w < dist[t.to]) {
-        dist[t.to] = d + w;
-        q.push({dist[t.to], t.to});
-      }
-    }
-  }
-  return dist;
+  return ShortestFrom(a, from, [by_time, tps](const Transition& t) {
+    return by_time ? std::lround(t.duration.lo * static_cast<double>(tps)) : t.cost;
+  });
 }
 
 // The least cost (or time) for automaton a to go from its initial location through v (if any)
@@ -111,6 +93,17 @@ bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, 
     case Objective::kCostThenMakespan: return cost <= b.cost && makespan_ticks <= b.makespan_ticks;
   }
   return false;
+}
+
+Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second) {
+  const Json makespan = ticks_per_second == 1 ? Json(b.makespan_ticks)
+                        : Json(static_cast<double>(b.makespan_ticks) / static_cast<double>(ticks_per_second));
+  switch (objective) {
+    case Objective::kCost: return b.cost;
+    case Objective::kMakespan: return makespan;
+    case Objective::kCostThenMakespan: return {{"cost", b.cost}, {"makespan", makespan}};
+  }
+  return nullptr;
 }
 
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {

@@ -8,6 +8,7 @@
 
 #include "planner/analyze/earliest.h"  // RequiredLocations
 #include "planner/model/domain.h"
+#include "planner/model/json_io.h"
 #include "planner/model/state_plan.h"
 
 namespace ctb {
@@ -28,5 +29,8 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
 
 // True when a plan of this cost and makespan meets the bounds (so no plan is better).
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);
+
+// The bound in the shape of the answer's objective value: cost, makespan in seconds, or both.
+Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second);
 
 }  // namespace ctb

@@ -88,12 +88,19 @@ class Solver {
     if (r != Outcome::kOptimal) return Finish("feasible");
     // A plan that meets a bound every plan obeys is optimal whatever the number of events.
     if (MeetsLowerBound(*best_)) return Finish("optimal");
-    // Close optimality over every plan with at most max_horizon events.
-    int need = EventsForBetter(*best_);
-    if (need <= horizon_) return Finish("optimal");
-    r = Attempt(std::min(need, o_.max_horizon), best_);
-    if (error_) return Fail();
-    return Finish(r == Outcome::kOptimal || r == Outcome::kInfeasible ? "optimal" : "feasible");
+    // Close optimality over every plan with at most max_horizon events. The horizon doubles on
+    // the way: a better plan found at a smaller horizon (a smaller model) may meet the bound and
+    // end the search. Invariant: no plan better than best_ has at most `closed` events.
+    for (int closed = horizon_;;) {
+      const int need = std::min(EventsForBetter(*best_), o_.max_horizon);
+      if (need <= closed) return Finish("optimal");
+      const int next = std::min(need, std::max(closed + 1, 2 * closed));
+      r = Attempt(next, best_);
+      if (error_) return Fail();
+      if (MeetsLowerBound(*best_)) return Finish("optimal");
+      if (r != Outcome::kOptimal && r != Outcome::kInfeasible) return Finish("feasible");
+      closed = next;
+    }
   }
 
  private:
@@ -342,7 +349,8 @@ class Solver {
         if (o_.on_progress)
           o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
                           {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
-                          {"elapsed_ms", MsSince(t0_)}});
+                          {"elapsed_ms", MsSince(t0_)},
+                          {"bound", BoundJson(bounds_, objective_, info_.ticks_per_second)}});
       }
     }
     if (decided) AddEngine(engine_, decided->engine);

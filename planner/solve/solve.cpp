@@ -50,14 +50,7 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
   out["max_horizon"] = max_horizon;
   if (c.status == "feasible") {
     // How far from optimal the plan may be: a bound every plan obeys.
-    const ObjectiveBounds b = LowerBounds(d, sp);
-    switch (objective) {
-      case Objective::kCost: out["bound"] = b.cost; break;
-      case Objective::kMakespan: out["bound"] = seconds(b.makespan_ticks); break;
-      case Objective::kCostThenMakespan:
-        out["bound"] = {{"cost", b.cost}, {"makespan", seconds(b.makespan_ticks)}};
-        break;
-    }
+    out["bound"] = BoundJson(LowerBounds(d, sp), objective, tps);
   }
   out["verified"] = c.best.has_value();
   out["stats"] = {{"solver", c.engine.empty() ? solver_name : c.engine},

@@ -74,6 +74,18 @@ TEST(Earliest, ProjectorDwellsThenShutsDown) {
   EXPECT_EQ(LowerBounds(d, sp).makespan_ticks, Ticks(d, 2430));
 }
 
+// Counted in events: connect, warm up, on, confirm (the shutdown constraint's first event), then
+// cool down and off before its second event, which needs it active: 6 events, so the horizon
+// search starts where the first plan is.
+TEST(Earliest, EventsOfTestPrompt1) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = Example("presentation", "test1_cot.json");
+  auto e = ComputeEarliestTimes(d, sp, Measure::kEvents);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->arrival[Automaton(d, "proj")][Loc(d, "proj", "projConfirm")], 4);
+  EXPECT_EQ(e->goal, 6);
+}
+
 // Without the shutdown constraint the projector must still come back to projOff after its
 // episode: 1830 s on, then through projCoolDown (60 s).
 TEST(Earliest, ReturnAfterAnEpisode) {

@@ -20,6 +20,7 @@
 
 #include "../planner/test_util.h"
 #include "../translator/mock_llm.h"
+#include "harness.h"
 #include "openapi_record.h"
 
 namespace ctb {
@@ -38,88 +39,19 @@ const bool kIgnoreSigpipe = [] {
   return true;
 }();
 
-int FreePort() {
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  int port = ntohs(a.sin_port);
-  close(s);
-  return port;
-}
-
 using ctb::testing::SolverProcesses;
 
-// The server as a child process.
-class Server {
+// The server as a child process (harness.h), its answers recorded for the OpenAPI check.
+class Server : public ctb::testing::ServerProcess {
  public:
   explicit Server(std::vector<std::pair<std::string, std::string>> env = {}, Json config = Json::object(),
-                  std::string log_path = "") {
-    port_ = FreePort();
-    std::string cfg_path;
-    if (!config.empty()) {
-      cfg_path = "/tmp/ctb-server-test-" + std::to_string(getpid()) + "-" + std::to_string(port_) + ".json";
-      std::ofstream(cfg_path) << config.dump();
-    }
-    pid_ = fork();
-    if (pid_ == 0) {
-      for (const char* v : {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"}) unsetenv(v);
-      for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
-      setenv("CTB_CONFIG_DIR", (ctb::testing::SourceDir() + "/config").c_str(), 1);
-      setenv("CTB_PROMPTS_DIR", (ctb::testing::SourceDir() + "/prompts").c_str(), 1);
-      // Each server its own session database (the SQLite store), removed by the OS' tmp cleaning.
-      setenv("CTB_DATA_DIR", ("/tmp/ctb-server-test-data-" + std::to_string(getpid()) + "-" + std::to_string(port_)).c_str(), 1);
-      std::string port = std::to_string(port_);
-      int devnull = open("/dev/null", O_WRONLY);
-      dup2(devnull, 1);
-      if (!log_path.empty()) {
-        int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(log, 2);
-      }
-      if (cfg_path.empty())
-        execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), nullptr);
-      else
-        execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), "--config", cfg_path.c_str(), nullptr);
-      _exit(127);
-    }
-    for (int i = 0; i < 200; ++i) {
-      if (Client().Get("/healthz")) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    }
-    ADD_FAILURE() << "server did not start";
-  }
-  ~Server() {
-    if (pid_ > 0 && Stop(5000) < 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
+                  std::string log_path = "")
+      : ServerProcess(std::move(config), {}, std::move(env), std::move(log_path)) {}
   ctb::testing::RecordingClient Client() const {
-    ctb::testing::RecordingClient c("127.0.0.1", port_);
+    ctb::testing::RecordingClient c("127.0.0.1", port());
     c.set_read_timeout(120, 0);
     return c;
   }
-  // SIGTERM; returns the exit status (-1 when it did not exit within wait_ms).
-  int Stop(long wait_ms) {
-    kill(pid_, SIGTERM);
-    for (long t = 0; t < wait_ms; t += 20) {
-      int status = 0;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return -1;
-  }
-  bool Alive() const { return kill(pid_, 0) == 0; }
-
- private:
-  int port_ = 0;
-  pid_t pid_ = -1;
 };
 
 std::string ReadFile(const std::string& path) {
@@ -456,7 +388,7 @@ TEST(Service, AClientThatGoesAwayHasItsSolverKilled) {
   {
     httplib::Client c = s.Client();
     c.set_read_timeout(1, 0);  // gives up after 1 s and closes its connection
-    auto r = c.Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    auto r = c.Post("/solve", SolveBody("assembly/test.json", {{"objective", "makespan"}, {"max_horizon", 64}, {"time_limit_ms", 60000}}).dump(), "application/json");
     EXPECT_FALSE(r) << "the solve takes longer than the client waits";
   }
   bool gone = false;
@@ -479,7 +411,7 @@ TEST(Service, ShutdownDuringASolveKillsTheSolverAndExitsZero) {
   int before = SolverProcesses();
   Server s({}, {{"shutdown_grace_ms", 500}});
   auto pending = std::async(std::launch::async, [&] {
-    auto r = s.Client().Post("/solve", SolveBody("search_rescue/test1.json", {{"objective", "makespan"}, {"time_limit_ms", 60000}}).dump(), "application/json");
+    auto r = s.Client().Post("/solve", SolveBody("assembly/test.json", {{"objective", "makespan"}, {"max_horizon", 64}, {"time_limit_ms", 60000}}).dump(), "application/json");
     return r ? r->status : -1;
   });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));

@@ -19,6 +19,7 @@
 
 #include "../planner/test_util.h"
 #include "../process_count.h"
+#include "harness.h"
 #include "openapi_record.h"
 
 namespace ctb {
@@ -41,80 +42,20 @@ const char* kTp1 =
     "projector should turn on and stay on for 1800 seconds, following which everything should turn "
     "off within 600 seconds. In addition, the projector should turn on within 60 seconds.";
 
-int FreePort() {
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  int port = ntohs(a.sin_port);
-  close(s);
-  return port;
-}
-
+// A connection for reading a stream, with a generous receive time-out.
 int Connect(int port) {
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    close(s);
-    return -1;
-  }
+  int s = testing::ConnectFrom(port);
+  if (s < 0) return -1;
   timeval tv{120, 0};
   setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
   return s;
 }
 
-// `ctburton serve --demo` as a child process, no LLM configured (the recordings answer), its
-// sessions in a directory of its own.
-class Server {
+// `ctburton serve --demo` as a child process (harness.h), no LLM configured (the recordings
+// answer), its sessions in a directory of its own.
+class Server : public testing::ServerProcess {
  public:
-  Server() {
-    port_ = FreePort();
-    pid_ = fork();
-    if (pid_ == 0) {
-      for (const char* v :
-           {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"})
-        unsetenv(v);
-      setenv("CTB_CONFIG_DIR", (ctb::testing::SourceDir() + "/config").c_str(), 1);
-      setenv("CTB_PROMPTS_DIR", (ctb::testing::SourceDir() + "/prompts").c_str(), 1);
-      int devnull = open("/dev/null", O_WRONLY);
-      dup2(devnull, 1);
-      dup2(devnull, 2);
-      std::string port = std::to_string(port_);
-      std::string data = "/tmp/ctb-stream-test-" + std::to_string(getpid());
-      execl(CTB_BINARY, CTB_BINARY, "serve", "--port", port.c_str(), "--demo", "--data-dir",
-            data.c_str(), nullptr);
-      _exit(127);
-    }
-    for (int i = 0; i < 200; ++i) {
-      int s = Connect(port_);
-      if (s >= 0) {
-        close(s);
-        return;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    }
-    ADD_FAILURE() << "server did not start";
-  }
-  ~Server() {
-    kill(pid_, SIGTERM);
-    for (int i = 0; i < 250; ++i) {
-      if (waitpid(pid_, nullptr, WNOHANG) == pid_) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-  }
-  int port() const { return port_; }
-
- private:
-  int port_ = 0;
-  pid_t pid_ = -1;
+  Server() : ServerProcess(nlohmann::json::object(), {"--demo"}) {}
 };
 
 struct Event {
@@ -395,6 +336,15 @@ Json SlowSolve() {
           {"stream", true}};
 }
 
+// The assembly test prompt, fastest, looking as far as 64 events (the server's limit): its bound (1 s) is far below
+// the plan (4 s), so the search runs to the time limit.
+Json VerySlowSolve() {
+  return {{"domain", "assembly"},
+          {"state_plan", Example("assembly/test.json")},
+          {"options", {{"time_limit_ms", 60000}, {"objective", "makespan"}, {"max_horizon", 64}}},
+          {"stream", true}};
+}
+
 TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
   Server s;
   SseClient c(s.port(), SlowSolve(), "/solve");
@@ -405,6 +355,12 @@ TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
   for (const auto& e : events)
     if (e.name == "solution" && first_solution < 0) first_solution = e.at_ms;
   ASSERT_GE(first_solution, 0) << ::testing::PrintToString(Names(events));
+  // Every improving plan says how far from optimal it may be.
+  for (const auto& e : events)
+    if (e.name == "solution") {
+      ASSERT_TRUE(e.data.contains("bound")) << e.data.dump();
+      EXPECT_LE(e.data["bound"].get<double>(), e.data["objective"].get<double>()) << e.data.dump();
+    }
   // Read off the wire well before the answer, not flushed together with it.
   EXPECT_LT(first_solution + 500, events.back().at_ms);
   EXPECT_EQ(events.back().data["status"], "optimal");
@@ -414,7 +370,7 @@ TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
 TEST(ServiceStream, AClientThatHangsUpCancelsTheSolver) {
   Server s;
   {
-    SseClient c(s.port(), SlowSolve(), "/solve");
+    SseClient c(s.port(), VerySlowSolve(), "/solve");
     std::optional<Event> e;
     while ((e = c.Next()) && e->name != "solution") {
     }
