@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -15,23 +16,25 @@ namespace {
 
 constexpr long kUnreachable = EarliestTimes::kNever;
 
-// Cheapest way, by cost or by the transitions' lower durations (ticks), from `from` to every
-// location of the automaton; kUnreachable where there is none.
-std::vector<long> Shortest(const Automaton& a, int from, bool by_time, long tps) {
-  return ShortestFrom(a, from, [by_time, tps](const Transition& t) {
-    return by_time ? std::lround(t.duration.lo * static_cast<double>(tps)) : t.cost;
-  });
-}
+using Weight = std::function<long(const Transition&)>;
 
-// The least cost (or time) for automaton a to go from its initial location through v (if any)
-// to its final location (if any).
-long Through(const Automaton& au, int init, int via, int final_loc, bool by_time, long tps) {
-  const auto from_init = Shortest(au, init, by_time, tps);
+// The least weight for automaton a to go from its initial location through v (if any) to its
+// final location (if any).
+long Through(const Automaton& au, int init, int via, int final_loc, const Weight& w) {
+  const auto from_init = ShortestFrom(au, init, w);
   long first = via >= 0 ? from_init[via] : 0;
   if (first >= kUnreachable) return 0;  // unreachable: infeasibility is not this bound's business
   if (final_loc < 0) return first;
-  long second = via >= 0 ? Shortest(au, via, by_time, tps)[final_loc] : from_init[final_loc];
+  long second = via >= 0 ? ShortestFrom(au, via, w)[final_loc] : from_init[final_loc];
   return second >= kUnreachable ? first : first + second;
+}
+
+// The most automaton a needs: to its final location, through each location it must visit.
+long Needs(const Automaton& au, int init, const std::vector<int>& visits, int final_loc,
+           const Weight& w) {
+  long need = Through(au, init, -1, final_loc, w);
+  for (int v : visits) need = std::max(need, Through(au, init, v, final_loc, w));
+  return need;
 }
 
 // True when `to` can be reached from `from` in the automaton's graph without the transitions
@@ -108,11 +111,19 @@ Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_sec
 
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   const long tps = std::max(1L, std::lround(1.0 / d.time_resolution));
+  const Weight by_cost = [](const Transition& t) { return t.cost; };
+  const Weight by_time = [tps](const Transition& t) {
+    return std::lround(t.duration.lo * static_cast<double>(tps));
+  };
+  const Weight by_event = [](const Transition&) { return 1L; };
   const std::size_t na = d.automata.size();
-  std::vector<int> final_loc(na, -1);
+  // The goal's locations; for the event count at either stage of a change goal too (each is
+  // reached by the goal event).
+  std::vector<int> final_loc(na, -1), last_loc(na, -1);
   std::vector<std::pair<int, int>> goal;
-  if (!sp.goal.info.IsChange()) RequiredLocations(sp.goal.expr, goal);
-  for (auto [a, loc] : goal) final_loc[a] = loc;
+  RequiredLocations(sp.goal.expr, goal);
+  for (auto [a, loc] : goal) last_loc[a] = loc;
+  if (!sp.goal.info.IsChange()) final_loc = last_loc;
   std::vector<std::vector<int>> visits(na);
   auto add_visits = [&](const Condition& c) {
     std::vector<std::pair<int, int>> v;
@@ -124,19 +135,15 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
     add_visits(t.event1);
     add_visits(t.event2);
   }
-  AddGuardLandmarks(d, sp, final_loc, visits);
   ObjectiveBounds b;
+  // Each transition of an automaton at an event of its own.
+  for (std::size_t a = 0; a < na; ++a)
+    b.events = std::max(b.events, Needs(d.automata[a], sp.initial[a], visits[a], last_loc[a], by_event));
+  AddGuardLandmarks(d, sp, final_loc, visits);
   for (std::size_t a = 0; a < na; ++a) {
-    const Automaton& au = d.automata[a];
-    const int init = sp.initial[a];
-    long cost = Through(au, init, -1, final_loc[a], false, tps);
-    long time = Through(au, init, -1, final_loc[a], true, tps);
-    for (int v : visits[a]) {
-      cost = std::max(cost, Through(au, init, v, final_loc[a], false, tps));
-      time = std::max(time, Through(au, init, v, final_loc[a], true, tps));
-    }
-    b.cost += cost;
-    b.makespan_ticks = std::max(b.makespan_ticks, time);
+    b.cost += Needs(d.automata[a], sp.initial[a], visits[a], final_loc[a], by_cost);
+    b.makespan_ticks = std::max(b.makespan_ticks,
+                                Needs(d.automata[a], sp.initial[a], visits[a], final_loc[a], by_time));
   }
   for (const auto& e : sp.episodes) {
     long lower = std::lround(e.lower * static_cast<double>(tps));
@@ -146,7 +153,7 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
     std::vector<std::pair<int, int>> v;
     if (!e.accepting.info.IsChange()) RequiredLocations(e.accepting.expr, v);
     for (auto [a, loc] : v) {
-      long t = Shortest(d.automata[a], sp.initial[a], true, tps)[loc];
+      long t = ShortestFrom(d.automata[a], sp.initial[a], by_time)[loc];
       if (t < kUnreachable) start = std::max(start, t);
     }
     b.makespan_ticks = std::max(b.makespan_ticks, start + lower);
@@ -158,6 +165,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   // Guards, dwell in an episode's location and the state plan's temporal network.
   if (auto earliest = ComputeEarliestTimes(d, sp); earliest && earliest->goal < EarliestTimes::kNever)
     b.makespan_ticks = std::max(b.makespan_ticks, earliest->goal);
+  // The same rules, counted in events.
+  if (auto ev = ComputeEarliestTimes(d, sp, Measure::kEvents); ev && ev->goal < EarliestTimes::kNever)
+    b.events = std::max(b.events, ev->goal);
   return b;
 }
 

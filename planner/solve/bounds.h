@@ -16,6 +16,7 @@ namespace ctb {
 struct ObjectiveBounds {
   long cost = 0;            // no plan costs less
   long makespan_ticks = 0;  // no plan reaches its goal earlier
+  long events = 0;          // no plan accepts its end state at an earlier event
 };
 
 // Every automaton the goal pins to a location must at least take the cheapest (fastest) way there
@@ -24,7 +25,9 @@ struct ObjectiveBounds {
 // location is first entered, and a temporal constraint's lower bound passes before the goal.
 // Guards add visits (landmarks): when an automaton cannot reach a location it must enter without
 // a transition whose guard needs another automaton in some location, that one must go there.
-// The makespan bound is also at least the earliest goal time (analyze/earliest.h).
+// The makespan bound is also at least the earliest goal time (analyze/earliest.h). The event
+// bound (the first horizon the search tries) counts each transition as an event of its own, and
+// the earliest-times rules in events.
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
 
 // True when a plan of this cost and makespan meets the bounds (so no plan is better).

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <fstream>
 #include <future>
 
@@ -18,31 +17,6 @@
 #include "planner/verify/verify.h"
 
 namespace ctb::solve {
-
-namespace {
-
-
-// Shortest number of transitions from `from` to `to` in an automaton's graph (guards ignored),
-// or -1 when unreachable.
-int Distance(const Automaton& a, int from, int to) {
-  std::vector<int> dist(a.locations.size(), -1);
-  std::deque<int> q{from};
-  dist[from] = 0;
-  while (!q.empty()) {
-    int l = q.front();
-    q.pop_front();
-    if (l == to) return dist[l];
-    for (const auto& t : a.transitions)
-      if (t.from == l && dist[t.to] < 0) {
-        dist[t.to] = dist[l] + 1;
-        q.push_back(t.to);
-      }
-  }
-  return -1;
-}
-
-
-}  // namespace
 
 class Solver {
  public:
@@ -115,42 +89,8 @@ class Solver {
 
   SolverBackend& Backend() const { return o_.backend ? *o_.backend : DefaultBackend(); }
 
-  // A justified lower bound on the number of events: an automaton takes at least as many
-  // transitions as the shortest way from its initial location through a location some episode
-  // or temporal constraint needs (a positive location atom of a top-level conjunction) to the
-  // location the goal pins it to, and each transition is at an event of its own.
-  int LowerBound() const {
-    const std::size_t na = d_.automata.size();
-    std::vector<int> final_loc(na, -1);
-    std::vector<std::pair<int, int>> req;
-    RequiredLocations(sp_.goal.expr, req);
-    for (auto [a, loc] : req) final_loc[a] = loc;
-    std::vector<std::pair<int, int>> visits;
-    for (const auto& e : sp_.episodes) RequiredLocations(e.accepting.expr, visits);
-    for (const auto& t : sp_.temporals) {
-      RequiredLocations(t.event1.expr, visits);
-      RequiredLocations(t.event2.expr, visits);
-    }
-    int lb = 0;
-    for (std::size_t a = 0; a < na; ++a) {
-      const Automaton& au = d_.automata[a];
-      const int init = sp_.initial[a];
-      auto via = [&](int v) {
-        int d1 = Distance(au, init, v);
-        if (d1 < 0) return 0;
-        if (final_loc[a] < 0) return d1;
-        int d2 = Distance(au, v, final_loc[a]);
-        return d2 < 0 ? d1 : d1 + d2;
-      };
-      if (final_loc[a] >= 0) lb = std::max(lb, std::max(0, Distance(au, init, final_loc[a])));
-      for (auto [b, v] : visits)
-        if (b == static_cast<int>(a)) lb = std::max(lb, via(v));
-    }
-    // Guards and the state plan order events too (analyze/earliest.h).
-    if (auto ev = ComputeEarliestTimes(d_, sp_, Measure::kEvents); ev && ev->goal < EarliestTimes::kNever)
-      lb = static_cast<int>(std::min<long>(std::max<long>(lb, ev->goal), o_.max_horizon));
-    return std::min(lb, o_.max_horizon);
-  }
+  // The first horizon: no plan has fewer events (solve/bounds.h).
+  int LowerBound() const { return static_cast<int>(std::min<long>(bounds_.events, o_.max_horizon)); }
 
   // The most events a strictly better plan can have: each event carries a transition of cost
   // >= min_cost. Without a positive min_cost, or for makespan, max_horizon.
