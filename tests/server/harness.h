@@ -29,6 +29,7 @@
 #include <gtest/gtest.h>
 
 #include "../planner/test_util.h"
+#include "../process_count.h"
 #include "openapi_record.h"
 
 namespace ctb::testing {
@@ -232,22 +233,8 @@ class ServerProcess {
   // Children of the server whose command name is `comm`.
   std::vector<pid_t> Children(const std::string& comm) const {
     std::vector<pid_t> out;
-    std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator("/proc", ec)) {
-      const std::string name = e.path().filename().string();
-      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-      std::ifstream in(e.path() / "stat");
-      std::string stat;
-      std::getline(in, stat);
-      auto open = stat.find('('), close = stat.rfind(')');
-      if (open == std::string::npos || close == std::string::npos || close + 2 > stat.size()) continue;
-      std::istringstream rest(stat.substr(close + 2));
-      char state;
-      long ppid = 0;
-      rest >> state >> ppid;
-      if (ppid == pid_ && stat.substr(open + 1, close - open - 1) == comm)
-        out.push_back(static_cast<pid_t>(std::atol(name.c_str())));
-    }
+    for (const auto& p : Processes())
+      if (p.ppid == pid_ && p.comm == comm) out.push_back(static_cast<pid_t>(p.pid));
     return out;
   }
 

@@ -206,21 +206,10 @@ bool WaitForPort(int port, long ms) {
 void KillOrphanedSolvers() {
   for (int round = 0; round < 50; ++round) {
     bool any = false;
-    for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-      const std::string name = e.path().filename().string();
-      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-      std::ifstream in(e.path() / "stat");
-      std::string stat;
-      std::getline(in, stat);
-      auto open = stat.find('('), close = stat.rfind(')');
-      if (open == std::string::npos || close == std::string::npos) continue;
-      std::string comm = stat.substr(open + 1, close - open - 1);
-      std::istringstream rest(stat.substr(close + 2));
-      char state;
-      long ppid = 0;
-      rest >> state >> ppid;
-      if (ppid != getpid() || (comm != "minizinc" && comm.rfind("fzn-", 0) != 0)) continue;
-      pid_t p = static_cast<pid_t>(std::atol(name.c_str()));
+    for (const auto& proc : testing::Processes()) {
+      if (proc.ppid != getpid() || (proc.comm != "minizinc" && proc.comm.rfind("fzn-", 0) != 0))
+        continue;
+      pid_t p = static_cast<pid_t>(proc.pid);
       kill(p, SIGKILL);
       waitpid(p, nullptr, 0);
       any = true;
