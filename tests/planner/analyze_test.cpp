@@ -12,19 +12,8 @@
 namespace ctb {
 namespace {
 
-StatePlan LoadFile(const std::string& domain, const std::string& path) {
-  Diagnostics d;
-  auto j = ReadJsonFile(path, d);
-  auto sp = j ? LoadStatePlan(*j, testing::ShippedDomain(domain), d) : std::nullopt;
-  if (!sp) {
-    ADD_FAILURE() << path << testing::AllErrors(d);
-    return StatePlan{};
-  }
-  return *sp;
-}
-
 StatePlan Data(const std::string& domain, const std::string& name) {
-  return LoadFile(domain, testing::SourceDir() + "/tests/data/" + name);
+  return testing::ShippedStatePlan(domain, testing::SourceDir() + "/tests/data/" + name);
 }
 
 std::set<std::string> Parts(const std::optional<StaticConflict>& c) {
@@ -66,7 +55,7 @@ TEST(Analyze, ChangeNoTransitionAllows) {
 TEST(Analyze, ThesisDirectAnswerToTestPrompt2) {
   const Domain& d = testing::ShippedDomain("presentation");
   auto c = FindStaticConflict(
-      d, LoadFile("presentation", testing::ConfigDir() + "/examples/presentation/test2_direct.json"));
+      d, testing::ShippedStatePlan("presentation", testing::ConfigDir() + "/examples/presentation/test2_direct.json"));
   ASSERT_TRUE(c);
   EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/temporal/last600"});
   EXPECT_NE(c->text.find("no transition takes comp from compOn to compBooting"), std::string::npos)
@@ -144,7 +133,7 @@ TEST(Analyze, FeasibleShippedExamplesHaveNoConflictAndTakeMilliseconds) {
   for (auto& [dom, file] : feasible) {
     SCOPED_TRACE(file);
     const Domain& d = testing::ShippedDomain(dom);
-    StatePlan sp = LoadFile(dom, testing::ConfigDir() + "/examples/" + file);
+    StatePlan sp = testing::ShippedStatePlan(dom, testing::ConfigDir() + "/examples/" + file);
     auto t0 = std::chrono::steady_clock::now();
     auto all = FindStaticConflicts(d, sp);
     auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -14,17 +14,6 @@
 namespace ctb {
 namespace {
 
-StatePlan LoadFile(const std::string& domain, const std::string& path) {
-  Diagnostics d;
-  auto j = ReadJsonFile(path, d);
-  auto sp = j ? LoadStatePlan(*j, testing::ShippedDomain(domain), d) : std::nullopt;
-  if (!sp) {
-    ADD_FAILURE() << path << testing::AllErrors(d);
-    return StatePlan{};
-  }
-  return *sp;
-}
-
 // 16 events hold every plan these examples need; the solver's infeasibility proofs grow with
 // the horizon (issue 9), and static proofs hold at every horizon.
 SolveOptions Options(int max_horizon = 16) {
@@ -86,7 +75,7 @@ struct Case {
 void CheckCase(const Case& c) {
   SCOPED_TRACE(c.file);
   const Domain& d = testing::ShippedDomain(c.domain);
-  StatePlan sp = LoadFile(c.domain, testing::SourceDir() + "/" + c.file);
+  StatePlan sp = testing::ShippedStatePlan(c.domain, testing::SourceDir() + "/" + c.file);
   ASSERT_TRUE(Infeasible(d, sp));
   Json ex = Explain(d, sp, Options());
   SCOPED_TRACE(ex.dump(1));
@@ -173,7 +162,7 @@ TEST(Explain, ThreeConstraintsThatConflictOnlyTogether) {
 
 TEST(Explain, TimeLimitGivesUnknownWithTheConsistentParts) {
   const Domain& d = testing::ShippedDomain("presentation");
-  StatePlan sp = LoadFile("presentation", testing::SourceDir() + "/tests/data/explain/three_together.json");
+  StatePlan sp = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/explain/three_together.json");
   ExplainOptions eo;
   eo.time_limit_ms = 1;
   Json ex = Explain(d, sp, Options(), eo);
@@ -184,7 +173,7 @@ TEST(Explain, TimeLimitGivesUnknownWithTheConsistentParts) {
 
 TEST(Explain, FeasibleAnswerCarriesSummaryAndNoExplanation) {
   const Domain& d = testing::ShippedDomain("search_rescue");
-  StatePlan sp = LoadFile("search_rescue", testing::ConfigDir() + "/examples/search_rescue/test2.json");
+  StatePlan sp = testing::ShippedStatePlan("search_rescue", testing::ConfigDir() + "/examples/search_rescue/test2.json");
   SolveOptions o = Options();
   auto r = Solve(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
@@ -199,7 +188,7 @@ TEST(Explain, FeasibleAnswerCarriesSummaryAndNoExplanation) {
 
 TEST(Explain, InfeasibleAnswerIsAnnotated) {
   const Domain& d = testing::ShippedDomain("presentation");
-  StatePlan sp = LoadFile("presentation", testing::SourceDir() + "/tests/data/deadline_infeasible.json");
+  StatePlan sp = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/deadline_infeasible.json");
   Json t = {{"status", "infeasible"}};
   AnnotateAnswer(d, sp, Options(), t);
   ASSERT_TRUE(t.contains("explanation"));
@@ -218,7 +207,7 @@ TEST(Explain, StaticChecksAgreeWithTheSolver) {
   } sweeps[] = {{"tests/data/deadline_infeasible.json", "/constraints/temporal/OnWithin10/upper_bound", 30},
                 {"tests/data/explain/deadline_boot.json", "/constraints/temporal/BootedWithin10/upper_bound", 15}};
   for (const auto& sw : sweeps) {
-    StatePlan base = LoadFile("presentation", testing::SourceDir() + "/" + sw.file);
+    StatePlan base = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/" + sw.file);
     for (double upper : {sw.exact - 1, sw.exact}) {
       SCOPED_TRACE(std::string(sw.file) + " upper " + std::to_string(upper));
       Json ch = Json::array({{{"pointer", sw.pointer}, {"value", upper}}});

@@ -20,10 +20,8 @@ StatePlan Plan(const std::string& domain, const Json& j) {
 }
 
 StatePlan Example(const std::string& domain, const std::string& file) {
-  Diagnostics d;
-  auto j = ReadJsonFile(testing::ConfigDir() + "/examples/" + domain + "/" + file, d);
-  if (!j) ADD_FAILURE() << testing::AllErrors(d);
-  return Plan(domain, j ? *j : Json::object());
+  const std::string path = testing::ConfigDir() + "/examples/" + domain + "/" + file;
+  return testing::ShippedStatePlan(domain, path);
 }
 
 long Ticks(const Domain& d, double seconds) { return std::lround(seconds / d.time_resolution); }

@@ -30,18 +30,6 @@ std::vector<Example> ShippedExamples() {
   return out;
 }
 
-StatePlan Load(const std::string& domain, const std::string& path) {
-  Diagnostics d;
-  auto j = ReadJsonFile(path, d);
-  if (!j) ADD_FAILURE() << path << testing::AllErrors(d);
-  auto sp = j ? LoadStatePlan(*j, testing::ShippedDomain(domain), d) : std::nullopt;
-  if (!sp) {
-    ADD_FAILURE() << path << testing::AllErrors(d);
-    return StatePlan{};
-  }
-  return *sp;
-}
-
 std::string TextAt(const Json& summary, const std::string& pointer) {
   for (const auto& s : summary)
     if (s["pointer"] == pointer) return s["text"];
@@ -54,7 +42,7 @@ TEST(Summary, EveryShippedExampleHasEveryPartWithEveryBound) {
   for (const auto& ex : examples) {
     SCOPED_TRACE(ex.path);
     const Domain& d = testing::ShippedDomain(ex.domain);
-    StatePlan sp = Load(ex.domain, ex.path);
+    StatePlan sp = testing::ShippedStatePlan(ex.domain, ex.path);
     Json s = SummarizeStatePlan(d, sp);
     std::set<std::string> want{"/initial_state", "/end_state/goal_constraint"};
     if (sp.maintenance.expr.op != Expr::Op::kTrue) want.insert("/end_state/maintenance_constraint");
@@ -92,7 +80,7 @@ TEST(Summary, EveryShippedExampleHasEveryPartWithEveryBound) {
 
 TEST(Summary, TestPrompt1Wording) {
   const Domain& d = testing::ShippedDomain("presentation");
-  StatePlan sp = Load("presentation", testing::ConfigDir() + "/examples/presentation/test1_cot.json");
+  StatePlan sp = testing::ShippedStatePlan("presentation", testing::ConfigDir() + "/examples/presentation/test1_cot.json");
   Json s = SummarizeStatePlan(d, sp);
   EXPECT_EQ(TextAt(s, "/constraints/temporal/ProjectorOnWithin60"),
             "Within 0 to 60 s after proj goes from projOff to projWarmUp, proj is projOn "
@@ -120,12 +108,12 @@ TEST(Summary, BoundsAreWordedApart) {
 
 TEST(Summary, MaintenanceSharedEventsAndConnectives) {
   const Domain& d = testing::ShippedDomain("presentation");
-  StatePlan sp = Load("presentation", testing::SourceDir() + "/tests/data/explain/overlap.json");
+  StatePlan sp = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/explain/overlap.json");
   Json s = SummarizeStatePlan(d, sp);
   EXPECT_EQ(TextAt(s, "/constraints/event/TogetherFromTheStart"),
             "These happen at one and the same moment: the start of episode ProjectorOn and the "
             "start of episode ProjectorDark.");
-  StatePlan m = Load("presentation", testing::SourceDir() + "/tests/data/explain/three_together.json");
+  StatePlan m = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/explain/three_together.json");
   Json t = SummarizeStatePlan(d, m);
   EXPECT_EQ(TextAt(t, "/end_state/maintenance_constraint"),
             "Until the end, at every moment: if conn is connected, then comp is compOff.");

@@ -6,6 +6,8 @@
 #include <map>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "planner/model/catalog.h"
 #include "planner/model/domain.h"
 #include "planner/model/state_plan.h"
@@ -50,6 +52,19 @@ inline std::string AllErrors(const Diagnostics& d) {
   std::string s;
   for (const auto& e : d.errors()) s += e.ToString() + "\n";
   return s;
+}
+
+// Loads a state-plan file against a shipped domain; a test failure naming the file when it does
+// not load (then an empty state plan).
+inline StatePlan ShippedStatePlan(const std::string& domain, const std::string& path) {
+  Diagnostics d;
+  auto j = ReadJsonFile(path, d);
+  auto sp = j ? LoadStatePlan(*j, ShippedDomain(domain), d) : std::nullopt;
+  if (!sp) {
+    ADD_FAILURE() << path << AllErrors(d);
+    return StatePlan{};
+  }
+  return *sp;
 }
 
 }  // namespace ctb::testing
