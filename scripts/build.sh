@@ -1,6 +1,12 @@
 #!/usr/bin/env bash
-# Configures and builds into ./build (Release with debug info).
+# Configures and builds into ./build (Release with debug info). Uses ccache when it is installed
+# (several work trees then share compiled objects; CCACHE_BASEDIR makes their paths relative).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build build -j"$(nproc)"
+launcher=()
+if command -v ccache >/dev/null 2>&1; then
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$(cd .. && pwd)}"
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
+cmake --build build -j"$(nproc)" "$@"
