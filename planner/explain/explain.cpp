@@ -1,10 +1,12 @@
 #include "planner/explain/explain.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "planner/analyze/analyze.h"
 #include "planner/explain/summary.h"
@@ -197,7 +199,32 @@ class Explainer {
     SolveOptions o = so_;
     o.time_limit_ms = left;
     ++calls_;
+    // Feasibility needs one verified plan, not an optimum: without a witness to return, the
+    // solve stops at the first plan it keeps (whole problems report each plan; the parts of a
+    // split one do not, and are solved to the end). The caller's cancel still applies.
+    std::atomic<bool> stop{false}, found{false}, done{false};
+    std::thread watch;
+    if (!witness) {
+      o.cancel = &stop;
+      o.on_progress = [&](const Json&) {
+        found = true;
+        stop = true;
+      };
+      o.decompose = false;
+      // One Gecode strategy: measured faster to a first plan than two sharing the cores
+      // (bench/results/impossible.md).
+      if (o.search == "portfolio") o.search = "g_first";
+      watch = std::thread([&] {
+        while (!done.load()) {
+          if (so_.cancel && so_.cancel->load()) stop = true;
+          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+      });
+    }
     auto r = Solve(d_, *sp, o);
+    done = true;
+    if (watch.joinable()) watch.join();
+    if (found.load()) return Verdict::kFeasible;
     if (!std::holds_alternative<Json>(r)) return Verdict::kUnknown;
     const Json& t = std::get<Json>(r);
     std::string status = t.value("status", "");
@@ -248,8 +275,7 @@ class Explainer {
     // A witness with the bound out of the way gives a feasible value.
     std::optional<double> good;
     if (hint && (upper ? *hint > hi : *hint < lo)) {
-      Json w;
-      if (Check(with(*hint), &w) == Verdict::kFeasible) good = *hint;
+      if (Check(with(*hint)) == Verdict::kFeasible) good = *hint;
     }
     if (!good) {
       Json w;
@@ -287,11 +313,16 @@ class Explainer {
   void Relax(const std::vector<std::string>& set, const std::optional<StaticConflict>& stat,
              Json& out) {
     std::vector<Candidate> cands;
+    // The static check's least values (the bounds it no longer refutes) when it found the set.
+    auto hint_for = [&](const std::string& bound) -> std::optional<double> {
+      if (!stat) return std::nullopt;
+      for (const auto& h : stat->hints)
+        if (h.pointer == bound) return h.value;
+      return std::nullopt;
+    };
     for (const auto& p : set) {
-      std::optional<double> hint;
-      if (stat && stat->hint && stat->hint->pointer == p + "/upper_bound") hint = stat->hint->value;
-      BoundCandidate(p, true, hint, cands);
-      BoundCandidate(p, false, std::nullopt, cands);
+      BoundCandidate(p, true, hint_for(p + "/upper_bound"), cands);
+      BoundCandidate(p, false, hint_for(p + "/lower_bound"), cands);
     }
     for (const auto& p : set) {
       Json j = base_;
