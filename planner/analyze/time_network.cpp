@@ -315,9 +315,12 @@ class Network {
         int v = NodeOf(e);
         if (v < 0) continue;
         if (prev >= 0) {
-          Add(prev, v, 0, {ptr}, "shared event " + ev.name + " puts " + nodes_[prev].desc +
+          // Which node a temporal constraint's endpoint is may rest on the abstraction (rule 5).
+          std::set<std::string> parts = Automata();
+          parts.insert(ptr);
+          Add(prev, v, 0, parts, "shared event " + ev.name + " puts " + nodes_[prev].desc +
                                      " and " + nodes_[v].desc + " on one event");
-          Add(v, prev, 0, {ptr}, "shared event " + ev.name + " puts " + nodes_[prev].desc +
+          Add(v, prev, 0, parts, "shared event " + ev.name + " puts " + nodes_[prev].desc +
                                      " and " + nodes_[v].desc + " on one event");
         }
         prev = v;
