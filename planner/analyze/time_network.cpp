@@ -230,6 +230,8 @@ class Network {
     };
     const int init = ab_.init[a];
     if (!first.raw_info.IsChange() && in({init, init})) return true;  // it holds at e[0]
+    // `later` may hold at e[0], read on the initial stage, before any change `first` needs.
+    if (!later.raw_info.IsChange() && InitialValue(later.raw, ab_.init) != Tv::kFalse) return false;
     std::vector<char> seen(d_.automata[a].locations.size(), 0);
     seen[init] = 1;
     for (bool grew = true; grew;) {

@@ -121,11 +121,14 @@ class Explainer {
     std::vector<std::string> consistent;
     // Deletion filter: drop each part that the rest can do without.
     if (set.size() > 1 || !from_static) {
-      for (const std::string p : std::vector<std::string>(set)) {
+      for (const std::string& p : std::vector<std::string>(set)) {
         std::vector<std::string> rest;
         for (const auto& x : set)
           if (x != p) rest.push_back(x);
-        Verdict v = rest.empty() ? Verdict::kFeasible : Check(Only(rest));
+        // A static conflict is usually minimal: the whole plan without p, when feasible, shows
+        // the rest feasible too (it keeps more) and is the relaxation "drop p" at once.
+        if (from_static && !rest.empty()) CheckParts(Without(p));
+        Verdict v = rest.empty() ? Verdict::kFeasible : CheckParts(rest);
         if (v == Verdict::kInfeasible) {
           set = rest;
         } else if (v == Verdict::kUnknown) {
@@ -186,6 +189,26 @@ class Explainer {
 
   long Remaining() const {
     return std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - Clock::now()).count();
+  }
+
+  std::vector<std::string> Without(const std::string& p) const {
+    std::vector<std::string> out;
+    for (const auto& x : parts_)
+      if (x != p) out.push_back(x);
+    return out;
+  }
+
+  // The state plan with only `keep` of the parts (bounds as given), checked once: a plan for a
+  // set of parts, cut at the first event at which a subset and the goal are met, is a plan for
+  // the subset, so every subset of a feasible set is feasible without a solve.
+  Verdict CheckParts(const std::vector<std::string>& keep) {
+    std::vector<std::string> sorted = keep;
+    std::sort(sorted.begin(), sorted.end());
+    for (const auto& f : feasible_)
+      if (std::includes(f.begin(), f.end(), sorted.begin(), sorted.end())) return Verdict::kFeasible;
+    Verdict v = Check(Only(keep));
+    if (v == Verdict::kFeasible) feasible_.push_back(sorted);
+    return v;
   }
 
   // Solves a state plan given as JSON. `witness` receives the trajectory when feasible.
@@ -330,7 +353,7 @@ class Explainer {
       // Dropping a part relaxes it further than any bound change: when one of its bounds could
       // be relaxed, the plan without it is feasible too (a plan for the relaxed bound, cut at the
       // first event at which the rest is met, is a plan for the rest). Else solve.
-      if (relaxable_.count(p) || Check(j) == Verdict::kFeasible)
+      if (relaxable_.count(p) || CheckParts(Without(p)) == Verdict::kFeasible)
         cands.push_back({Json::array({{{"pointer", p}, {"value", nullptr}}}),
                          "Drop " + PartName(p) + ".", 1e9 + cands.size()});
     }
@@ -349,6 +372,7 @@ class Explainer {
   const Json summary_;
   std::vector<std::string> parts_;
   std::set<std::string> relaxable_;  // parts with a bound relaxation shown feasible
+  std::vector<std::vector<std::string>> feasible_;  // sets of parts shown feasible (sorted)
   int calls_ = 0;
 };
 
