@@ -18,7 +18,6 @@ ELSEWHERE = {
     ("SolveRequest", "stream"): "the SolveAnytime method",
     ("PlanRequest", "stream"): "the PlanAnytime method",
     ("SolveRequest", "action_model"): "the oneof model",
-    ("Trajectory", "infeasible_for"): "PlanResult.metrics",
 }
 
 
