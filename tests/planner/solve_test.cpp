@@ -1,6 +1,8 @@
 // The figures ctburton must reproduce (issue 3), with the real minizinc and Gecode.
 #include "planner/solve/solve.h"
 
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "test_util.h"
@@ -96,6 +98,24 @@ TEST(SolveFigures, AssemblyMakespan4WithTwoArms) {
   EXPECT_TRUE(arm1 && arm2) << "both arms work";
   for (const auto& [block, where] : {std::pair{"blockA", "onFloor"}, {"blockB", "onA"}, {"blockC", "onFloor"}})
     EXPECT_EQ(t["timelines"][block].back()["location"], where) << block;
+}
+
+// domains.md (turn 3): two arms may not start placing onto one block at one event (arm 1 has
+// priority), so two blocks can never both rest on C. Before the rule this was "optimal" at t = 2.
+TEST(SolveFigures, AssemblyTwoBlocksOnOneBlockIsInfeasible) {
+  Json plan = testing::MustParse(R"({
+    "initial_state": {"arm1": "home", "arm2": "home", "blockA": "onFloor", "blockB": "onFloor",
+                      "blockC": "onFloor"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "blockA[i+1]==onC /\\ blockB[i+1]==onC"},
+    "objective": "makespan"})");
+  const std::string path = ::testing::TempDir() + "/two_on_c.json";
+  std::ofstream(path) << plan.dump();
+  SolveOptions o;
+  o.max_horizon = 12;  // every two-arm interleaving of two picks and two placings fits
+  Json t = SolveExample("assembly", path, std::nullopt, o);
+  ASSERT_TRUE(t.is_object());
+  EXPECT_EQ(t["status"], "infeasible");
+  EXPECT_EQ(t["verified"], false);
 }
 
 TEST(SolveFigures, DeadlineShorterThanWarmUpIsInfeasible) {
