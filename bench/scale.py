@@ -13,8 +13,9 @@ when optimal), `found_by` / `proved_by` and peak memory.
 
 Results go to bench/results/scale.json under --label (rows of other labels are kept), and
 bench/results/scale.md is rewritten from every label in the json: run once with --bin pointing at
-a build of main (--label before) and once with this build (--label after). --domain-dir names the
-directory the assembly domain is read from (main's own config for "before").
+a build of main, or this build with --first-plan-ms 0 (--label before), and once with this build
+(--label after). --domain-dir names the directory the assembly domain is read from (main's own
+config for "before").
 """
 import argparse
 import json
@@ -60,9 +61,11 @@ def problems(tmp, sizes, domain_dir):
     return out
 
 
-def run(binary, label, domain, plan, limit_ms):
+def run(binary, label, domain, plan, limit_ms, first_plan_ms=None):
     cmd = ["/usr/bin/time", "-f", "%M", binary, "solve", "--domain", domain, plan, "--objective",
            "makespan", "--time-limit-ms", str(limit_ms)]
+    if first_plan_ms is not None:  # 0: the first-plan engine off (the exact path of main)
+        cmd += ["--first-plan-ms", str(first_plan_ms)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=limit_ms / 1000 + 300)
     mem = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "-1"
     row = {"problem": label, "peak_mb": round(int(mem) / 1024, 1) if mem.isdigit() else None}
@@ -112,13 +115,14 @@ def main():
     ap.add_argument("--time-limit-ms", type=int, default=60000)
     ap.add_argument("--sizes", default="1,2,4,8,12,16,32,64")
     ap.add_argument("--domain-dir", default=os.path.join(ROOT, "config", "domains"))
+    ap.add_argument("--first-plan-ms", type=int, default=None)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     a = ap.parse_args()
     sizes = [int(x) for x in a.sizes.split(",") if x]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, domain, plan in problems(tmp, sizes, a.domain_dir):
-            r = run(a.bin, label, domain, plan, a.time_limit_ms)
+            r = run(a.bin, label, domain, plan, a.time_limit_ms, a.first_plan_ms)
             print(json.dumps(r), flush=True)
             rows.append(r)
     os.makedirs(a.out, exist_ok=True)
