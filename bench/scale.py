@@ -105,6 +105,19 @@ def write_md(path, data):
                         f"{sec(r.get('solve_ms'))} | {r.get('found_by') or '—'} | "
                         f"{r.get('proved_by') or '—'} | {r.get('peak_mb')} |\n")
             f.write("\n")
+        coupled = data.get("coupled")
+        if coupled:
+            f.write("## bench/coupled.py rows, before and after (same machine state)\n\n")
+            f.write(coupled.get("note", "") + "\n\n")
+            f.write("| problem | objective | before: status, value | first | answer | after: status, "
+                    "value | first | answer | found by / proved by |\n|---|---|---|---|---|---|---|---|---|\n")
+            for rb, ra in zip(coupled["before"], coupled["after"]):
+                f.write(f"| {ra['problem']} | {ra['objective_kind']} | {rb['status']} "
+                        f"{json.dumps(rb.get('objective'))} | {sec(rb.get('first_solution_ms'))} | "
+                        f"{sec(rb.get('solve_ms'))} | {ra['status']} {json.dumps(ra.get('objective'))} | "
+                        f"{sec(ra.get('first_solution_ms'))} | {sec(ra.get('solve_ms'))} | "
+                        f"{ra.get('found_by') or '—'} / {ra.get('proved_by') or '—'} |\n")
+            f.write("\n")
 
 
 def main():
@@ -116,8 +129,21 @@ def main():
     ap.add_argument("--sizes", default="1,2,4,8,12,16,32,64")
     ap.add_argument("--domain-dir", default=os.path.join(ROOT, "config", "domains"))
     ap.add_argument("--first-plan-ms", type=int, default=None)
+    ap.add_argument("--coupled", nargs=2, metavar=("BEFORE", "AFTER"),
+                    help="only record two bench/coupled.py outputs (json lines) for the comparison")
+    ap.add_argument("--coupled-note", default="")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     a = ap.parse_args()
+    jpath = os.path.join(a.out, "scale.json")
+    if a.coupled:
+        def lines(path):
+            return [json.loads(x) for x in open(path) if x.startswith("{")]
+        data = json.load(open(jpath)) if os.path.exists(jpath) else {"runs": {}}
+        data["coupled"] = {"note": a.coupled_note, "before": lines(a.coupled[0]),
+                           "after": lines(a.coupled[1])}
+        json.dump(data, open(jpath, "w"), indent=1)
+        write_md(os.path.join(a.out, "scale.md"), data)
+        return
     sizes = [int(x) for x in a.sizes.split(",") if x]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -126,7 +152,6 @@ def main():
             print(json.dumps(r), flush=True)
             rows.append(r)
     os.makedirs(a.out, exist_ok=True)
-    jpath = os.path.join(a.out, "scale.json")
     data = json.load(open(jpath)) if os.path.exists(jpath) else {"runs": {}}
     data["runs"][a.label] = {"command": "python3 bench/scale.py " + " ".join(sys.argv[1:]),
                              "machine": f"{os.cpu_count()} cores, {platform.platform()}",

@@ -162,10 +162,14 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   }
   // The first-plan engine (planner/search): a verified plan in milliseconds, streamed first and
   // handed to the exact engines as the incumbent; optimal at once when it meets the lower bound.
+  // A problem that splits is solved part by part, each small and fast: the engine's plan of the
+  // whole would not help them, so it runs on problems solved as one model only.
+  std::vector<SubProblem> parts;
+  if (o.decompose) parts = SplitProblem(d, sp);
   long found_ms = -1;
   std::optional<solve::Plan> incumbent;
   bool meets_bound = false;
-  if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0) {
+  if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
     const ObjectiveBounds bounds = LowerBounds(d, sp);
     incumbent = solve::FirstPlanIncumbent(d, sp, o, objective, max_h, bounds, t0, stats, found_ms);
     meets_bound = incumbent &&
@@ -181,25 +185,10 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     c.proved_by = "lower bound";
     return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
   }
-  if (o.decompose) {
-    std::vector<SubProblem> parts = SplitProblem(d, sp);
-    if (parts.size() > 1) {
-      auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
-      if (c && c->error) return *c->error;
-      if (c && incumbent && c->status == "infeasible")
-        return Error{ErrorCode::kInternal, "internal error: the parts were found infeasible, "
-                                           "but the first-plan engine has a verified plan", {}};
-      if (c && incumbent && c->status != "optimal" &&
-          (!c->best || solve::BetterPlan(objective, *incumbent, *c->best))) {
-        c->best = incumbent;
-        c->status = "feasible";
-        c->found_by = "heuristic";
-        c->first_solution_ms = found_ms;
-      } else if (c && found_ms >= 0) {
-        c->first_solution_ms = found_ms;
-      }
-      if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver);
-    }
+  if (parts.size() > 1) {
+    auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
+    if (c && c->error) return *c->error;
+    if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver);
   }
   SolveOptions mono = o;
   const long offset = MsSince(t0);
