@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Coupled problems, where nothing splits (issue 9), and the infeasible requests it lists.
 
-    python3 bench/coupled.py [--time-limit-ms 60000] [--quick] [--out bench/results]
+    python3 bench/coupled.py [--time-limit-ms 60000] [--quick] [--first-plan-ms N] [--out bench/results]
 
 Generates the problems from the shipped domains (tools/gen_domains.py, bench/gen_scaled.py), runs
 `build/client/ctburton solve` under /usr/bin/time on each and writes bench/results/coupled.{md,json}:
@@ -100,9 +100,11 @@ def problems(tmp, quick):
     return out
 
 
-def run(label, domain, plan, objective, limit_ms):
+def run(label, domain, plan, objective, limit_ms, first_plan_ms=None):
     cmd = ["/usr/bin/time", "-f", "%M", BIN, "solve", "--domain", domain, plan, "--objective",
            objective, "--time-limit-ms", str(limit_ms)]
+    if first_plan_ms is not None:  # the first-plan engine's budget (0: off, as before issue 18)
+        cmd += ["--first-plan-ms", str(first_plan_ms)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=limit_ms / 1000 + 120)
     mem = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "-1"
     row = {"problem": label, "objective_kind": objective,
@@ -115,7 +117,7 @@ def run(label, domain, plan, objective, limit_ms):
     row.update(status=t["status"], objective=t["objective"]["value"], bound=t.get("bound"),
                verified=t["verified"], first_solution_ms=s.get("first_solution_ms"),
                solve_ms=s.get("solve_ms"), solver_runs=s.get("solver_runs"),
-               solver=s.get("solver"))
+               solver=s.get("solver"), found_by=s.get("found_by"), proved_by=s.get("proved_by"))
     return row
 
 
@@ -123,12 +125,14 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--time-limit-ms", type=int, default=60000)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--first-plan-ms", type=int, default=None,
+                    help="passed to ctburton solve (0 turns the first-plan engine off)")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     a = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for label, domain, plan, objective in problems(tmp, a.quick):
-            r = run(label, domain, plan, objective, a.time_limit_ms)
+            r = run(label, domain, plan, objective, a.time_limit_ms, a.first_plan_ms)
             print(json.dumps(r), flush=True)
             rows.append(r)
     if a.quick:
@@ -144,15 +148,17 @@ def main():
         f.write(f"Made by `{cmd}` on {os.cpu_count()} cores, {platform.platform()}; time limit "
                 f"{a.time_limit_ms} ms per solve. Seconds end to end (`stats.solve_ms`); "
                 f"`first` is the first verified plan.\n\n")
-        f.write("| problem | objective | status | value | bound | first | total | runs | solver | peak MB |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|\n")
+        f.write("| problem | objective | status | value | bound | first | total | runs | solver | "
+                "found by | proved by | peak MB |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             def sec(v):
                 return "—" if v is None or v < 0 else f"{v / 1000:.2f}"
             f.write(f"| {r['problem']} | {r['objective_kind']} | {r['status']} | "
                     f"{json.dumps(r.get('objective'))} | {json.dumps(r.get('bound'))} | "
                     f"{sec(r.get('first_solution_ms'))} | {sec(r.get('solve_ms'))} | "
-                    f"{r.get('solver_runs', '')} | {r.get('solver', '')} | {r.get('peak_mb')} |\n")
+                    f"{r.get('solver_runs', '')} | {r.get('solver', '')} | "
+                    f"{r.get('found_by') or '—'} | {r.get('proved_by') or '—'} | {r.get('peak_mb')} |\n")
 
 
 if __name__ == "__main__":

@@ -22,6 +22,7 @@ struct SolveCliOptions {
   bool no_decompose = false;
   bool no_reuse = false;
   bool no_redundant = false;
+  long first_plan_ms = -1;
   std::string model_out;
   std::string server;
 };
@@ -99,6 +100,7 @@ int RunSolve(const SolveCliOptions& o) {
     so.decompose = !o.no_decompose;
     so.reuse_identical_parts = !o.no_reuse;
     so.redundant = !o.no_redundant;
+    so.first_plan_ms = o.first_plan_ms;
     so.model_out = o.model_out;
   };
   if (auto v = core.Validate(call); auto* ok = std::get_if<app::ValidateAnswer>(&v))
@@ -137,6 +139,9 @@ Runner AddSolve(CLI::App& app) {
   sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
   sub->add_flag("--no-reuse", o->no_reuse, "Solve identical parts again (benchmarks)");
   sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");
+  sub->add_option("--first-plan-ms", o->first_plan_ms,
+                  "Budget of the first-plan engine (-1 automatic, 0 off)")
+      ->check(CLI::Range(-1L, 3600L * 1000));
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
   sub->add_option("--server", o->server, "Solve on a running ctburton server, e.g. http://127.0.0.1:8080");

@@ -139,8 +139,10 @@ def assembly():
         for x in BLOCKS:
             clear = [f"block{z}l[i]!=on{x}" for z in BLOCKS if z != x]
             free = [f"block{x}l[i]!=inArm1", f"block{x}l[i]!=inArm2"]
-            guard = " /\\ ".join([f"{arm}u[i]==pick{x}"] + clear + free +
-                                 [f"{other}l[i]!=picking{x}"])
+            parts = [f"{arm}u[i]==pick{x}"] + clear + free + [f"{other}l[i]!=picking{x}"]
+            if k == 1:  # arm 1 has priority: not commanded to pick X at this stage
+                parts.append(f"{other}u[i]!=pick{x}")
+            guard = " /\\ ".join(parts)
             ts.append(on("home", f"picking{x}", guard))
             ts.append(after(f"picking{x}", f"holding{x}", 1))
         for x in BLOCKS:
@@ -150,6 +152,8 @@ def assembly():
                     parts += [f"block{z}l[i]!=on{y}" for z in BLOCKS if z != y]
                     parts += [f"block{y}l[i]!=inArm1", f"block{y}l[i]!=inArm2"]
                     parts += [f"{other}l[i]!=placing{z}on{y}" for z in BLOCKS if z != y]
+                    if k == 1:  # nor commanded to place anything onto Y at this stage
+                        parts += [f"{other}u[i]!=place{z}on{y}" for z in BLOCKS if z != y]
                 ts.append(on(f"holding{x}", f"placing{x}on{y}", " /\\ ".join(parts)))
                 ts.append(after(f"placing{x}on{y}", "home", 2))
         automata.append({"name": arm, "locations": arm_locs, "commands": arm_cmds,

@@ -20,10 +20,16 @@ namespace ctb::solve {
 
 class Solver {
  public:
-  Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o)
+  Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+         const std::optional<Plan>& incumbent = std::nullopt)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
         objective_(o.objective.value_or(sp.objective)), bounds_(LowerBounds(d, sp)),
-        t0_(Clock::now()) {}
+        t0_(Clock::now()), best_(incumbent) {
+    if (best_) {
+      horizon_ = best_->traj.goal_event;
+      found_by_ = "heuristic";
+    }
+  }
 
   // Proves that no plan strictly better than p exists with at most max_horizon events (over the
   // runs these options allow), or finds one.
@@ -36,42 +42,51 @@ class Solver {
   Core Stats() const { return error_ ? Fail() : Finish("unknown"); }
 
   Core Run() {
-    std::string status;
+    // An incumbent that meets a bound every plan obeys is optimal at once.
+    if (best_ && MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
     if (o_.horizon) {
-      auto r = Attempt(*o_.horizon, std::nullopt);
+      // With an incumbent, "infeasible" here means: nothing better at this horizon.
+      auto r = Attempt(*o_.horizon, best_);
       if (error_) return Fail();
-      status = r == Outcome::kOptimal    ? "optimal"
-               : r == Outcome::kInfeasible ? "infeasible"
-               : best_                   ? "feasible"
-                                         : "unknown";
-      return Finish(status);
+      if (best_ && MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
+      if (r == Outcome::kOptimal || (r == Outcome::kInfeasible && best_))
+        return Proved("optimal", decider_);
+      if (r == Outcome::kInfeasible) return Proved("infeasible", decider_);
+      return Finish(best_ ? "feasible" : "unknown");
     }
-    // Grow the horizon until a plan exists.
+    // Grow the horizon until a plan (better than the incumbent, if any) exists.
     int h = LowerBound();
     Outcome r = Outcome::kInfeasible;
     while (h <= o_.max_horizon) {
-      r = Attempt(h, std::nullopt);
+      r = Attempt(h, best_);
       if (error_) return Fail();
       if (r != Outcome::kInfeasible) break;
       // A model with horizon h holds every plan with at most h events, so doubling loses
-      // nothing; the last try is max_horizon itself, which proves infeasibility.
+      // nothing; the last try is max_horizon itself, which proves infeasibility (or, with an
+      // incumbent, that nothing better exists; for cost, a better plan has few events).
       if (h >= o_.max_horizon) break;
+      if (best_ && h >= std::min(EventsForBetter(*best_), o_.max_horizon)) break;
       h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
     }
-    if (!best_) return Finish(r == Outcome::kInfeasible ? "infeasible" : "unknown");
+    if (!best_) {
+      if (r == Outcome::kInfeasible) return Proved("infeasible", decider_);
+      return Finish("unknown");
+    }
+    if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
+    if (r == Outcome::kInfeasible) return Proved("optimal", decider_);  // the incumbent
     if (r != Outcome::kOptimal) return Finish("feasible");
     // A plan that meets a bound every plan obeys is optimal whatever the number of events.
-    if (MeetsLowerBound(*best_)) return Finish("optimal");
+    if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
     // Close optimality over every plan with at most max_horizon events. The horizon doubles on
     // the way: a better plan found at a smaller horizon (a smaller model) may meet the bound and
     // end the search. Invariant: no plan better than best_ has at most `closed` events.
     for (int closed = horizon_;;) {
       const int need = std::min(EventsForBetter(*best_), o_.max_horizon);
-      if (need <= closed) return Finish("optimal");
+      if (need <= closed) return Proved("optimal", decider_);
       const int next = std::min(need, std::max(closed + 1, 2 * closed));
       r = Attempt(next, best_);
       if (error_) return Fail();
-      if (MeetsLowerBound(*best_)) return Finish("optimal");
+      if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
       if (r != Outcome::kOptimal && r != Outcome::kInfeasible) return Finish("feasible");
       closed = next;
     }
@@ -285,15 +300,20 @@ class Solver {
       if (!best_ || Better(p, *best_)) {
         best_ = p;
         horizon_ = h;
+        found_by_ = r.engine;
         if (!decided) AddEngine(engine_, r.engine);
         if (o_.on_progress)
           o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
                           {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
                           {"elapsed_ms", MsSince(t0_)},
-                          {"bound", BoundJson(bounds_, objective_, info_.ticks_per_second)}});
+                          {"bound", BoundJson(bounds_, objective_, info_.ticks_per_second)},
+                          {"found_by", r.engine}});
       }
     }
-    if (decided) AddEngine(engine_, decided->engine);
+    if (decided) {
+      AddEngine(engine_, decided->engine);
+      decider_ = decided->engine;
+    }
     if (best_ && horizon_ == h && MeetsLowerBound(*best_)) return Outcome::kOptimal;
     if (decided) return decided->status == RunResult::Status::kOptimal ? Outcome::kOptimal
                                                                         : Outcome::kInfeasible;
@@ -340,6 +360,12 @@ class Solver {
     c.variables = variables_;
     c.first_solution_ms = first_solution_ms_;
     c.engine = engine_;
+    c.found_by = best_ ? found_by_ : "";
+    return c;
+  }
+  Core Proved(const std::string& status, const std::string& by) const {
+    Core c = Finish(status);
+    c.proved_by = by;
     return c;
   }
   Core Fail() const {
@@ -365,10 +391,13 @@ class Solver {
   long variables_ = 0;
   long first_solution_ms_ = -1;
   std::string engine_;
+  std::string found_by_;  // the engine of best_
+  std::string decider_;   // the engine of the last definitive run
 };
 
-Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
-  return Solver(d, sp, o).Run();
+Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                   const std::optional<Plan>& incumbent) {
+  return Solver(d, sp, o, incumbent).Run();
 }
 
 Refutation RefuteBetter(const Domain& d, const StatePlan& sp, const SolveOptions& o,

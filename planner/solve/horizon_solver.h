@@ -33,6 +33,11 @@ struct Core {
   long first_solution_ms = -1;
   // The engine(s) whose runs decided the answer ("gecode", "z3", "gecode+z3"); empty: none ran.
   std::string engine;
+  // The engine that found the plan kept ("heuristic", "gecode", "z3"), and what proved the
+  // status when it is optimal or infeasible (an engine, "lower bound", "static analysis"); empty
+  // when unknown (then AnswerJson falls back on `engine`).
+  std::string found_by;
+  std::string proved_by;
   std::optional<Error> error;
 };
 
@@ -43,7 +48,11 @@ enum class Refutation { kRefuted, kBetterExists, kUnknown };
 
 // Grows the horizon until a plan exists, solves it to optimality and closes optimality over
 // every plan with at most max_horizon events (docs/encoding.md). Errors go to Core::error.
-Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o);
+// With an incumbent (a verified plan with at most max_horizon events, e.g. the first-plan
+// engine's), every model asks only for a strictly better plan, and "none at any horizon" proves
+// the incumbent optimal.
+Core SolveOneModel(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                   const std::optional<Plan>& incumbent = std::nullopt);
 
 // Proves that no plan strictly better than `than` exists (at most max_horizon events, or
 // exactly the fixed horizon), or finds one; stats (runs, times) and any error go to `stats`.

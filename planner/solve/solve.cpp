@@ -8,6 +8,7 @@
 #include "planner/solve/bounds.h"
 #include "planner/solve/decompose.h"
 #include "planner/solve/horizon_solver.h"
+#include "planner/solve/incumbent.h"
 #include "planner/solve/parts.h"
 
 namespace ctb {
@@ -53,7 +54,14 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
     out["bound"] = BoundJson(LowerBounds(d, sp), objective, tps);
   }
   out["verified"] = c.best.has_value();
-  out["stats"] = {{"solver", c.engine.empty() ? solver_name : c.engine},
+  // Which engine found the plan and what proved the status (null: nothing / not proven).
+  const std::string engine = c.engine.empty() ? solver_name : c.engine;
+  const bool proven = c.status == "optimal" || c.status == "infeasible";
+  const std::string found_by = c.found_by.empty() ? engine : c.found_by;
+  const std::string proved_by = c.proved_by.empty() ? engine : c.proved_by;
+  out["stats"] = {{"solver", engine},
+                  {"found_by", c.best ? Json(found_by) : Json()},
+                  {"proved_by", proven ? Json(proved_by) : Json()},
                   {"compile_ms", c.compile_ms},
                   {"solve_ms", elapsed_ms},
                   {"first_solution_ms", c.first_solution_ms},
@@ -87,6 +95,9 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   if (!known)
     d.Error("/options/search", "search must be portfolio, g_first, tc_first, first_fail, "
                                "transitions_first, default or z3");
+  if (o.first_plan_ms < -1 || o.first_plan_ms > 3600 * 1000)
+    d.Error("/options/first_plan_ms", "first_plan_ms must be -1 (automatic) or between 0 and "
+                                      "3,600,000");
   if (o.portfolio < 1 || o.portfolio > 3)
     d.Error("/options/portfolio", "portfolio must be 1, 2 or 3");
   if (d.ok()) return std::nullopt;
@@ -157,18 +168,49 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
       return out;
     }
   }
-  if (o.decompose) {
-    std::vector<SubProblem> parts = SplitProblem(d, sp);
-    if (parts.size() > 1) {
-      auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
-      if (c && c->error) return *c->error;
-      if (c) return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
-    }
+  // The first-plan engine (planner/search): a verified plan in milliseconds, streamed first and
+  // handed to the exact engines as the incumbent; optimal at once when it meets the lower bound.
+  // A problem that splits is solved part by part, each small and fast: the engine's plan of the
+  // whole would not help them, so it runs on problems solved as one model only.
+  std::vector<SubProblem> parts;
+  if (o.decompose) parts = SplitProblem(d, sp);
+  long found_ms = -1;
+  std::optional<solve::Plan> incumbent;
+  bool meets_bound = false;
+  if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
+    const ObjectiveBounds bounds = LowerBounds(d, sp);
+    incumbent = solve::FirstPlanIncumbent(d, sp, o, objective, max_h, bounds, t0, stats, found_ms);
+    meets_bound = incumbent &&
+                  MeetsLowerBounds(bounds, objective, incumbent->cost, incumbent->makespan);
+  }
+  if (meets_bound) {
+    Core c;
+    c.status = "optimal";
+    c.best = incumbent;
+    c.horizon = incumbent->traj.goal_event;
+    c.first_solution_ms = found_ms;
+    c.engine = c.found_by = "heuristic";
+    c.proved_by = "lower bound";
+    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
+  }
+  if (parts.size() > 1) {
+    auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
+    if (c && c->error) return *c->error;
+    if (c) return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
   }
   SolveOptions mono = o;
-  mono.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
-  Core c = SolveOneModel(d, sp, mono);
+  const long offset = MsSince(t0);
+  mono.time_limit_ms = std::max(1L, o.time_limit_ms - offset);
+  if (o.on_progress)
+    mono.on_progress = [&o, offset](const Json& p) {
+      Json q = p;
+      q["elapsed_ms"] = p.value("elapsed_ms", 0L) + offset;  // since the solve began
+      o.on_progress(q);
+    };
+  Core c = SolveOneModel(d, sp, mono, incumbent);
   if (c.error) return *c.error;
+  if (c.first_solution_ms >= 0) c.first_solution_ms += offset;
+  if (found_ms >= 0) c.first_solution_ms = found_ms;
   return WithScope(AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver));
 }
 

@@ -46,11 +46,15 @@ struct SolveOptions {
   SolverBackend* backend = nullptr;
   // Static checks that prove infeasibility without search (planner/analyze) run first.
   bool static_analysis = true;
+  // The first-plan engine (planner/search) runs next for at most this long: its verified plan is
+  // streamed first and handed to the exact engines as the incumbent. -1: min(500 ms, a tenth of
+  // time_limit_ms); 0: not run.
+  long first_plan_ms = -1;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;
   // Called on the calling thread each time a better verified plan is kept, with {"kind" (the
-  // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms"}. Not called for the parts
-  // of a decomposed problem (their objectives are not the whole plan's).
+  // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms", "bound", "found_by"}. Not
+  // called for the parts of a decomposed problem (their objectives are not the whole plan's).
   std::function<void(const Json& progress)> on_progress;
 };
 

@@ -52,6 +52,7 @@ TEST(Backend, InfeasibleAtEveryHorizonGrowsByDoublingToMaxHorizon) {
   o.backend = &b;
   o.max_horizon = 12;
   o.portfolio = 1;
+  o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
   auto r = Solve(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   const Json& t = std::get<Json>(r);
@@ -70,6 +71,7 @@ TEST(Backend, AFixedHorizonIsOneModel) {
   o.backend = &b;
   o.horizon = 7;
   o.portfolio = 1;
+  o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
   auto r = Solve(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "infeasible");
@@ -82,6 +84,7 @@ TEST(Backend, NoAnswerInTimeIsUnknownNotInfeasible) {
   SolveOptions o;
   o.backend = &b;
   o.portfolio = 1;
+  o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
   auto r = Solve(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "unknown");
@@ -94,6 +97,7 @@ TEST(Backend, ASolverFailureIsAnError) {
   SolveOptions o;
   o.backend = &b;
   o.portfolio = 1;
+  o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
   auto r = Solve(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   EXPECT_EQ(std::get<Error>(r).code, ErrorCode::kInternal);
@@ -133,9 +137,53 @@ TEST(Backend, AWrongPlanFromTheSolverIsAnInternalErrorNeverAnAnswer) {
   SolveOptions o;
   o.backend = &b;
   o.portfolio = 1;
+  o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
   auto r = Solve(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   EXPECT_EQ(std::get<Error>(r).code, ErrorCode::kInternal);
+}
+
+// The first-plan engine's plan is the incumbent: an engine that finds nothing better at every
+// horizon up to max_horizon proves it optimal (issue 18). Assembly's makespan bound is below the
+// optimum 4, so the exact path runs.
+TEST(Backend, AnIncumbentWithNothingBetterAtAnyHorizonIsOptimal) {
+  const Domain& d = testing::ShippedDomain("assembly");
+  StatePlan sp = testing::ShippedStatePlan(
+      "assembly", testing::ConfigDir() + "/examples/assembly/test.json");
+  ScriptedBackend b(RunResult::Status::kInfeasible);
+  SolveOptions o;
+  o.backend = &b;
+  o.max_horizon = 16;  // the engine's plan has about a dozen events
+  o.portfolio = 1;
+  o.objective = Objective::kMakespan;
+  auto r = Solve(d, sp, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(r));
+  const Json& t = std::get<Json>(r);
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["verified"], true);
+  EXPECT_GE(t["objective"]["value"].get<long>(), 4);
+  EXPECT_EQ(t["stats"]["found_by"], "heuristic");
+  EXPECT_EQ(t["stats"]["proved_by"], "scripted");
+  ASSERT_FALSE(b.horizons().empty());
+  EXPECT_EQ(b.horizons().back(), 16);  // refuted up to max_horizon (makespan)
+  EXPECT_GE(t["stats"]["first_solution_ms"].get<long>(), 0);
+}
+
+// Off, the same problem is infeasible by the same script: the status came from the incumbent.
+TEST(Backend, WithoutTheFirstPlanEngineTheScriptIsFollowed) {
+  const Domain& d = testing::ShippedDomain("assembly");
+  StatePlan sp = testing::ShippedStatePlan(
+      "assembly", testing::ConfigDir() + "/examples/assembly/test.json");
+  ScriptedBackend b(RunResult::Status::kInfeasible);
+  SolveOptions o;
+  o.backend = &b;
+  o.max_horizon = 16;
+  o.portfolio = 1;
+  o.first_plan_ms = 0;
+  auto r = Solve(d, sp, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(r));
+  EXPECT_EQ(std::get<Json>(r)["status"], "infeasible");
+  EXPECT_EQ(std::get<Json>(r)["stats"]["found_by"], nullptr);
 }
 
 }  // namespace

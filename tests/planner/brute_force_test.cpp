@@ -222,12 +222,15 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
     std::optional<Best> truth = en.Run();
     EXPECT_TRUE(en.bound_violations().empty())
         << "seed " << seed << ": " << en.bound_violations().front() << "\n" << p.Describe();
-    // Gecode (the default portfolio) and the z3 engine alone must both find the true optimum.
-    for (const char* search : {"portfolio", "z3"}) {
+    // The default (the first-plan engine's incumbent, then Gecode's portfolio), Gecode alone and
+    // the z3 engine (after the first-plan engine) must all find the true optimum.
+    for (const auto& [search, first_plan_ms] :
+         std::vector<std::pair<const char*, long>>{{"portfolio", -1}, {"portfolio", 0}, {"z3", -1}}) {
       SolveOptions o;
       o.max_horizon = kMaxEvents;
       o.time_limit_ms = 60000;
       o.search = search;
+      o.first_plan_ms = first_plan_ms;
       auto r = Solve(*d, *sp, o);
       ASSERT_TRUE(std::holds_alternative<Json>(r))
           << search << ": " << std::get<Error>(r).ToString() << p.Describe();

@@ -1,0 +1,335 @@
+#include "planner/search/expand.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "planner/expr/expr_print.h"
+
+namespace ctb::search {
+
+namespace {
+
+bool IsAccepting(const Expr& atom) {
+  return atom.var_kind == VarKind::kEpisodeState || atom.var_kind == VarKind::kTemporalState;
+}
+
+// Why the engine cannot follow a condition: it reads commands (those of the stage an event opens
+// are chosen only at the next event) or a fixed stage (min(n, g) depends on the goal event).
+std::string Unsupported(const Condition& c) {
+  if (c.raw_info.uses_fixed) return "a condition reads a fixed stage (" + c.pointer + ")";
+  if (!c.raw_info.commands_read.empty()) return "a condition reads commands (" + c.pointer + ")";
+  return "";
+}
+
+}  // namespace
+
+Expander::Expander(const Domain& d, const StatePlan& sp, long ticks_per_second)
+    : d_(d), sp_(sp), tps_(ticks_per_second) {
+  const std::size_t na = d.automata.size();
+  out_.resize(na);
+  readers_.resize(na);
+  clock_cap_.resize(na);
+  for (std::size_t a = 0; a < na; ++a) {
+    const Automaton& au = d.automata[a];
+    out_[a].resize(au.locations.size());
+    clock_cap_[a].assign(au.locations.size(), 0);
+    for (std::size_t ti = 0; ti < au.transitions.size(); ++ti) {
+      const Transition& tr = au.transitions[ti];
+      out_[a][tr.from].push_back(static_cast<int>(ti));
+      long reach = Ticks(tr.duration.lo);
+      if (tr.duration.hi) reach = std::max(reach, Ticks(*tr.duration.hi));
+      clock_cap_[a][tr.from] = std::max(clock_cap_[a][tr.from], reach + 1);
+      for (int r : tr.guard_info.commands_read) {
+        auto& rs = readers_[r];
+        if (std::find(rs.begin(), rs.end(), static_cast<int>(a)) == rs.end())
+          rs.push_back(static_cast<int>(a));
+      }
+    }
+  }
+  for (const auto& ep : sp.episodes) {
+    ep_lo_.push_back(Ticks(ep.lower));
+    ep_hi_.push_back(Ticks(ep.upper));
+  }
+  for (const auto& tc : sp.temporals) {
+    tc_lo_.push_back(Ticks(tc.lower));
+    tc_hi_.push_back(Ticks(tc.upper));
+  }
+  std::vector<const Condition*> conds = {&sp.goal, &sp.maintenance};
+  for (const auto& ep : sp.episodes) conds.insert(conds.end(), {&ep.accepting, &ep.state});
+  for (const auto& tc : sp.temporals) conds.insert(conds.end(), {&tc.event1, &tc.event2});
+  for (const Condition* c : conds)
+    if (declined_.empty()) declined_ = Unsupported(*c);
+  // Ends of episodes and second events are chosen greedily (as soon as they may), which cannot
+  // make endpoints meet on one event.
+  if (declined_.empty() && !sp.events.empty()) declined_ = "the state plan has shared events";
+}
+
+long Expander::Ticks(double seconds) const {
+  return std::lround(seconds * static_cast<double>(tps_));
+}
+
+bool Expander::GuardHolds(const Transition& tr, const std::vector<int>& loc,
+                          const std::vector<int>& cmd) const {
+  // As the verifier: a location atom reads the location, any other the command.
+  return Evaluate(tr.guard, [&](const Expr& atom) {
+    return atom.var_kind == VarKind::kLocation ? loc[atom.target] : cmd[atom.target];
+  });
+}
+
+std::vector<int> Expander::Enabled(int a, const std::vector<int>& loc,
+                                   const std::vector<int>& cmd) const {
+  std::vector<int> out;
+  for (int ti : out_[a][loc[a]])
+    if (GuardHolds(d_.automata[a].transitions[ti], loc, cmd)) out.push_back(ti);
+  return out;
+}
+
+StageView Expander::View(const Node& n) const {
+  StageView v;
+  const std::vector<int> none(d_.automata.size(), 0);
+  for (std::size_t a = 0; a < d_.automata.size(); ++a)
+    v.enabled.push_back(Enabled(static_cast<int>(a), n.loc, none));
+  return v;
+}
+
+std::vector<Candidate> Expander::Candidates(const Node& n, const StageView& v) const {
+  std::vector<Candidate> out;
+  std::vector<int> cmd(d_.automata.size(), 0);
+  for (std::size_t a = 0; a < d_.automata.size(); ++a) {
+    for (int ti : out_[a][n.loc[a]]) {
+      const Transition& tr = d_.automata[a].transitions[ti];
+      if (tr.commanded) {
+        if (tr.command <= 0) continue;  // a guard that names no single command: not chosen here
+        cmd[a] = tr.command;
+        const bool holds = GuardHolds(tr, n.loc, cmd);
+        cmd[a] = 0;
+        if (!holds) continue;
+      } else if (!tr.controllable ||
+                 std::find(v.enabled[a].begin(), v.enabled[a].end(), ti) == v.enabled[a].end()) {
+        continue;
+      }
+      Candidate c{static_cast<int>(a), ti, std::max(n.time, n.entry[a] + Ticks(tr.duration.lo)),
+                  tr.duration.hi ? n.entry[a] + Ticks(*tr.duration.hi) : kInfinity};
+      if (c.earliest <= c.latest) out.push_back(c);
+    }
+  }
+  return out;
+}
+
+long Expander::DueTime(const Node& n, const StageView& v) const {
+  long due = kInfinity;
+  for (std::size_t a = 0; a < v.enabled.size(); ++a)
+    for (int ti : v.enabled[a]) {
+      const Transition& tr = d_.automata[a].transitions[ti];
+      if (!tr.commanded && !tr.controllable)
+        due = std::min(due, std::max(n.time, n.entry[a] + Ticks(tr.duration.lo)));
+    }
+  return due;
+}
+
+std::vector<long> Expander::Targets(const Node& n) const {
+  std::vector<long> out;
+  const Monitors& m = n.mon;
+  for (std::size_t p = 0; p < sp_.episodes.size(); ++p)
+    if (m.ep_start[p] >= 0 && m.ep_end[p] < 0 && m.ep_start_t[p] + ep_lo_[p] > n.time)
+      out.push_back(m.ep_start_t[p] + ep_lo_[p]);
+  for (std::size_t q = 0; q < sp_.temporals.size(); ++q)
+    if ((m.tc_k1[q] >= 0) != (m.tc_k2[q] >= 0) && m.tc_first_t[q] + tc_lo_[q] > n.time)
+      out.push_back(m.tc_first_t[q] + tc_lo_[q]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::optional<Node> Expander::Root() const {
+  Node n;
+  const std::size_t na = d_.automata.size();
+  n.loc = sp_.initial;
+  n.entry.assign(na, 0);
+  n.mon.ep_start.assign(sp_.episodes.size(), -1);
+  n.mon.ep_end.assign(sp_.episodes.size(), -1);
+  n.mon.ep_start_t.assign(sp_.episodes.size(), kNoTime);
+  n.mon.tc_k1.assign(sp_.temporals.size(), -1);
+  n.mon.tc_k2.assign(sp_.temporals.size(), -1);
+  n.mon.tc_first_t.assign(sp_.temporals.size(), kNoTime);
+  if (!UpdateMonitors(nullptr, n)) return std::nullopt;
+  return n;
+}
+
+std::optional<Node> Expander::Apply(const Node& parent, const StageView& v,
+                                    const std::vector<std::pair<int, int>>& chosen,
+                                    long time) const {
+  const std::size_t na = d_.automata.size();
+  if (time < parent.time) return std::nullopt;
+  std::vector<int> cmd(na, 0), pick(na, -1);
+  std::vector<char> touched(na, 0);
+  for (auto [a, ti] : chosen) {
+    if (pick[a] >= 0) return std::nullopt;
+    const Transition& tr = d_.automata[a].transitions[ti];
+    pick[a] = ti;
+    cmd[a] = tr.commanded ? tr.command : 0;
+    touched[a] = 1;
+    for (int b : readers_[a]) touched[b] = 1;
+  }
+  Node n;
+  n.event = parent.event + 1;
+  n.time = time;
+  n.cost = parent.cost;
+  n.loc = parent.loc;
+  n.entry = parent.entry;
+  n.mon = parent.mon;
+  std::vector<int> scratch;
+  for (std::size_t b = 0; b < na; ++b) {
+    const std::vector<int>* en = &v.enabled[b];
+    if (touched[b]) {
+      scratch = Enabled(static_cast<int>(b), parent.loc, cmd);
+      en = &scratch;
+    }
+    const long clock = time - parent.entry[b];
+    const auto& trs = d_.automata[b].transitions;
+    // The verifier's rules over every transition whose guard holds on the stage before.
+    int required = -1;
+    for (int ti : *en) {
+      const Transition& tr = trs[ti];
+      bool must = false;
+      if (tr.commanded) {
+        must = true;  // a command whose transition is enabled must take it
+      } else if (tr.controllable) {
+        if (tr.duration.hi && clock > Ticks(*tr.duration.hi)) return std::nullopt;  // overstay
+      } else {
+        const long lo = Ticks(tr.duration.lo);
+        if (time > std::max(parent.time, parent.entry[b] + lo)) return std::nullopt;  // overdue
+        must = clock >= lo;
+      }
+      if (must) {
+        if (required >= 0) return std::nullopt;  // two transitions due at once: determinacy
+        required = ti;
+      }
+    }
+    int fire = pick[b];
+    if (fire >= 0) {
+      if (required >= 0 && required != fire) return std::nullopt;
+      if (std::find(en->begin(), en->end(), fire) == en->end()) return std::nullopt;
+    } else {
+      fire = required;
+    }
+    if (fire < 0) continue;
+    const Transition& tr = trs[fire];
+    if (clock < Ticks(tr.duration.lo) || (tr.duration.hi && clock > Ticks(*tr.duration.hi)))
+      return std::nullopt;
+    n.loc[b] = tr.to;
+    n.entry[b] = time;
+    n.cost += tr.cost;
+    n.fired.emplace_back(static_cast<int>(b), fire);
+  }
+  if (n.fired.empty()) return std::nullopt;  // runs are concise
+  for (std::size_t a = 0; a < na; ++a)
+    if (cmd[a] != 0) n.cmds_before.emplace_back(static_cast<int>(a), cmd[a]);
+  if (!UpdateMonitors(&parent, n)) return std::nullopt;
+  return n;
+}
+
+int Expander::AcceptingBefore(const Expr& atom, const Node* prev) const {
+  if (!prev) return 0;  // before event 0 nothing has started
+  const int k = prev->event;
+  const Monitors& m = prev->mon;
+  const int i = atom.target;
+  if (atom.var_kind == VarKind::kEpisodeState)
+    return (m.ep_start[i] >= 0 && k >= m.ep_start[i] ? 1 : 0) +
+           (m.ep_end[i] >= 0 && k >= m.ep_end[i] ? 1 : 0);
+  const int k1 = m.tc_k1[i], k2 = m.tc_k2[i];
+  const int first = k1 < 0 ? k2 : (k2 < 0 ? k1 : std::min(k1, k2));
+  const int second = (k1 < 0 || k2 < 0) ? -1 : std::max(k1, k2);
+  return (first >= 0 && k >= first ? 1 : 0) + (second >= 0 && k >= second ? 1 : 0);
+}
+
+bool Expander::AtEvent(const Condition& c, const Node* prev, const Node& n) const {
+  const bool change = c.raw_info.IsChange();
+  if (change && !prev) return false;
+  return Evaluate(c.raw, [&](const Expr& atom) {
+    if (IsAccepting(atom)) return AcceptingBefore(atom, prev);
+    const bool before = change && atom.index.kind == IndexKind::kI;
+    const std::vector<int>& loc = before ? prev->loc : n.loc;
+    return atom.var_kind == VarKind::kLocation ? loc[atom.target] : 0;  // commands: declined
+  });
+}
+
+bool Expander::OnStage(const Condition& c, const Node* prev, const Node& n) const {
+  return Evaluate(c.raw, [&](const Expr& atom) {
+    if (IsAccepting(atom)) return AcceptingBefore(atom, prev);
+    return atom.var_kind == VarKind::kLocation ? n.loc[atom.target] : 0;
+  });
+}
+
+bool Expander::UpdateMonitors(const Node* prev, Node& n) const {
+  const int j = n.event;
+  const long t = n.time;
+  Monitors& m = n.mon;
+  for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+    const Episode& ep = sp_.episodes[p];
+    if (m.ep_start[p] < 0) {
+      if (AtEvent(ep.accepting, prev, n)) {
+        m.ep_start[p] = j;
+        m.ep_start_t[p] = t;
+      }
+    } else if (m.ep_end[p] < 0) {
+      const long dur = t - m.ep_start_t[p];
+      if (dur > ep_hi_[p]) return false;  // can no longer end within its bounds
+      if (dur >= ep_lo_[p]) m.ep_end[p] = j;  // greedy: ends as soon as it may
+    }
+    if (m.ep_start[p] >= 0 && m.ep_end[p] < 0 && !OnStage(ep.state, prev, n)) return false;
+  }
+  for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+    const Temporal& tc = sp_.temporals[q];
+    int& k1 = m.tc_k1[q];
+    int& k2 = m.tc_k2[q];
+    if (k1 < 0 && k2 < 0) {
+      const bool h1 = AtEvent(tc.event1, prev, n), h2 = AtEvent(tc.event2, prev, n);
+      if (h1 && h2) {
+        if (tc_lo_[q] != 0) return false;  // both at its first event: accepted at once or never
+        k1 = k2 = j;
+      } else if (h1) {
+        k1 = j;
+      } else if (h2) {
+        k2 = j;
+      }
+      if (h1 || h2) m.tc_first_t[q] = t;
+    } else if (k1 < 0 || k2 < 0) {
+      const long dt = t - m.tc_first_t[q];
+      if (dt > tc_hi_[q]) return false;
+      if (dt >= tc_lo_[q] && AtEvent(k1 < 0 ? tc.event1 : tc.event2, prev, n)) (k1 < 0 ? k1 : k2) = j;
+    }
+  }
+  bool all = AtEvent(sp_.goal, prev, n);
+  for (std::size_t p = 0; all && p < sp_.episodes.size(); ++p) all = m.ep_end[p] >= 0;
+  for (std::size_t q = 0; all && q < sp_.temporals.size(); ++q)
+    all = m.tc_k1[q] >= 0 && m.tc_k2[q] >= 0;
+  n.done = all;
+  // The maintenance constraint holds on every stage before the goal event.
+  return n.done || OnStage(sp_.maintenance, prev, n);
+}
+
+std::vector<long> Expander::Key(const Node& n) const {
+  std::vector<long> key;
+  const std::size_t na = d_.automata.size();
+  key.reserve(2 * na + 2 * (sp_.episodes.size() + sp_.temporals.size()));
+  for (std::size_t a = 0; a < na; ++a) {
+    key.push_back(n.loc[a]);
+    key.push_back(std::min(n.time - n.entry[a], clock_cap_[a][n.loc[a]]));
+  }
+  const Monitors& m = n.mon;
+  for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+    const int status = (m.ep_start[p] >= 0 ? 1 : 0) + (m.ep_end[p] >= 0 ? 1 : 0);
+    key.push_back(status);
+    key.push_back(status == 1 ? std::min(n.time - m.ep_start_t[p], ep_hi_[p] + 1) : 0);
+  }
+  for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+    const int status = (m.tc_k1[q] >= 0 ? 1 : 0) + (m.tc_k2[q] >= 0 ? 2 : 0);
+    key.push_back(status);
+    key.push_back(status == 1 || status == 2 ? std::min(n.time - m.tc_first_t[q], tc_hi_[q] + 1)
+                                             : 0);
+  }
+  return key;
+}
+
+}  // namespace ctb::search

@@ -1,0 +1,267 @@
+#include "planner/search/first_plan.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+
+#include "planner/search/expand.h"
+#include "planner/search/relaxed_plan.h"
+#include "planner/verify/verify.h"
+
+namespace ctb {
+
+namespace {
+
+using search::Candidate;
+using search::Expander;
+using search::Node;
+using search::RelaxedPlan;
+using search::StageView;
+using Clock = std::chrono::steady_clock;
+using Value = std::pair<long, long>;  // the objective, compared lexicographically
+
+struct KeyHash {
+  std::size_t operator()(const std::vector<long>& k) const {
+    std::size_t h = 1469598103934665603ull;
+    for (long v : k) h = (h ^ static_cast<std::size_t>(v)) * 1099511628211ull;
+    return h;
+  }
+};
+
+// Successor kinds, in the order the search prefers them among children of one node: all the
+// helpful transitions at once, one helpful transition, waiting for what is due, the node's
+// other choices (generated only when the node comes up a second time).
+enum Rank { kMacro = 0, kHelpful = 1, kWait = 2, kFull = 3, kOther = 4 };
+
+struct Entry {
+  double h;
+  int rank;
+  long seq;
+  int node;
+  bool operator>(const Entry& o) const {
+    if (h != o.h) return h > o.h;
+    if (rank != o.rank) return rank > o.rank;
+    return seq > o.seq;
+  }
+};
+
+class Search {
+ public:
+  Search(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o)
+      : d_(d), sp_(sp), o_(o), tps_(std::lround(1.0 / d.time_resolution)), ex_(d, sp, tps_),
+        rp_(d, sp, o.objective, tps_), t0_(Clock::now()) {}
+
+  FirstPlanResult Run() {
+    if (!ex_.Declined().empty()) {
+      r_.declined = ex_.Declined();
+      return r_;
+    }
+    auto root = ex_.Root();
+    if (!root) return Finish(true);
+    pool_.push_back(std::move(*root));
+    seen_[ex_.Key(pool_[0])] = ValueOf(pool_[0]);
+    if (pool_[0].done) {
+      Offer(0);
+      return Finish(true);
+    }
+    Push(0, 0, kMacro);
+    while (!open_.empty()) {
+      ++r_.expanded;
+      if (OutOfTime()) return Finish(false);
+      if (stop_) return Finish(false);
+      Entry e = open_.top();
+      open_.pop();
+      if (best_ && !(ValueOf(pool_[e.node]) < *best_)) continue;  // cannot improve
+      if (e.rank == kFull) {
+        Expand(e.node, false);
+        continue;
+      }
+      auto est = rp_.Evaluate(pool_[e.node]);
+      if (est.dead) continue;
+      helpful_[e.node] = est.helpful;
+      h_[e.node] = est.h;
+      Expand(e.node, true);
+      if (!stop_) open_.push({est.h, kFull, seq_++, e.node});
+    }
+    return Finish(true);
+  }
+
+ private:
+  long ElapsedMs() const {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0_).count();
+  }
+
+  bool OutOfTime() const {
+    if (o_.cancel && o_.cancel->load()) return true;
+    return ElapsedMs() >= deadline_ms_;
+  }
+
+  Value ValueOf(const Node& n) const {
+    switch (o_.objective) {
+      case Objective::kCost: return {n.cost, 0};
+      case Objective::kMakespan: return {n.time, 0};
+      case Objective::kCostThenMakespan: return {n.cost, n.time};
+    }
+    return {0, 0};
+  }
+
+  void Push(int node, double h, Rank rank) { open_.push({h, rank, seq_++, node}); }
+
+  // Adds a child unless an equal future was reached at least as well; a finished run is offered
+  // as a plan instead.
+  void Add(int parent, std::optional<Node> child, Rank rank) {
+    ++r_.generated;
+    if (!child || child->event > o_.max_events) return;
+    child->parent = parent;
+    if (best_ && !(ValueOf(*child) < *best_)) return;
+    auto key = ex_.Key(*child);
+    const Value v = ValueOf(*child);
+    auto it = seen_.find(key);
+    if (it != seen_.end() && !(v < it->second)) return;
+    seen_[std::move(key)] = v;
+    pool_.push_back(std::move(*child));
+    const int idx = static_cast<int>(pool_.size()) - 1;
+    if (pool_[idx].done) {
+      Offer(idx);
+      return;
+    }
+    Push(idx, h_[parent], rank);
+  }
+
+  // Preferred successors first (the helpful transitions together, each alone at its earliest
+  // time and at the monitors' target times, waiting); the others on the node's second turn.
+  void Expand(int idx, bool preferred) {
+    const Node n = pool_[idx];  // a copy: pool_ grows below
+    const StageView v = ex_.View(n);
+    const std::vector<Candidate> cands = ex_.Candidates(n, v);
+    const std::vector<long> targets = ex_.Targets(n);
+    const auto& helpful = helpful_[idx];
+    auto is_helpful = [&](const Candidate& c) {
+      return std::find(helpful.begin(), helpful.end(), std::pair{c.automaton, c.transition}) !=
+             helpful.end();
+    };
+    auto singles = [&](const Candidate& c, Rank rank) {
+      Add(idx, ex_.Apply(n, v, {{c.automaton, c.transition}}, c.earliest), rank);
+      for (long t : targets)
+        if (t > c.earliest && t <= c.latest)
+          Add(idx, ex_.Apply(n, v, {{c.automaton, c.transition}}, t), rank);
+    };
+    if (!preferred) {
+      for (const Candidate& c : cands)
+        if (!is_helpful(c)) singles(c, kOther);
+      return;
+    }
+    std::vector<const Candidate*> mine;
+    for (const Candidate& c : cands)
+      if (is_helpful(c)) mine.push_back(&c);
+    if (mine.size() > 1) Add(idx, Macro(n, v, mine), kMacro);
+    for (const Candidate* c : mine) singles(*c, kHelpful);
+    const long due = ex_.DueTime(n, v);
+    if (due < search::kInfinity) Add(idx, ex_.Apply(n, v, {}, due), kWait);
+  }
+
+  // Every helpful transition that can fire at the earliest time any of them can, one per
+  // automaton, lower-indexed automata first: one that would break the guard of one already in
+  // (a guard may read another automaton's command) or whose own guard fails is left out.
+  std::optional<Node> Macro(const Node& n, const StageView& v,
+                            const std::vector<const Candidate*>& mine) {
+    long at = search::kInfinity;
+    for (const Candidate* c : mine) at = std::min(at, c->earliest);
+    std::vector<std::pair<int, int>> chosen;
+    std::vector<char> taken(d_.automata.size(), 0);
+    for (const Candidate* c : mine) {
+      if (taken[c->automaton] || c->earliest > at || c->latest < at) continue;
+      chosen.emplace_back(c->automaton, c->transition);
+      if (ex_.Apply(n, v, chosen, at)) {
+        taken[c->automaton] = 1;
+      } else {
+        chosen.pop_back();
+      }
+    }
+    if (chosen.size() < 2) return std::nullopt;
+    return ex_.Apply(n, v, chosen, at);
+  }
+
+  Trajectory Build(int idx) const {
+    std::vector<int> chain;
+    for (int i = idx; i >= 0; i = pool_[i].parent) chain.push_back(i);
+    std::reverse(chain.begin(), chain.end());
+    const std::size_t na = d_.automata.size();
+    const int g = static_cast<int>(chain.size()) - 1;
+    Trajectory t;
+    t.goal_event = g;
+    t.horizon = g;
+    t.locations.assign(na, std::vector<int>(g + 1, 0));
+    t.commands.assign(na, std::vector<int>(g + 1, 0));
+    for (int k = 0; k <= g; ++k) {
+      const Node& n = pool_[chain[k]];
+      t.events.push_back(n.time);
+      for (std::size_t a = 0; a < na; ++a) t.locations[a][k] = n.loc[a];
+      for (auto [a, c] : n.cmds_before) t.commands[a][k - 1] = c;
+      for (auto [a, ti] : n.fired) t.fired.push_back({k, a, ti});
+    }
+    const search::Monitors& m = pool_[idx].mon;
+    for (std::size_t p = 0; p < sp_.episodes.size(); ++p)
+      t.episodes.emplace_back(m.ep_start[p], m.ep_end[p]);
+    for (std::size_t q = 0; q < sp_.temporals.size(); ++q)
+      t.temporals.emplace_back(m.tc_k1[q], m.tc_k2[q]);
+    return t;
+  }
+
+  // A finished run: kept when the verifier accepts it and it is strictly better.
+  void Offer(int idx) {
+    const Node& n = pool_[idx];
+    const Value v = ValueOf(n);
+    if (best_ && !(v < *best_)) return;
+    Trajectory t = Build(idx);
+    if (!VerifyTrajectory(t, d_, sp_, tps_).empty()) {
+      ++r_.rejected;
+      return;
+    }
+    if (!best_) {
+      const long now = ElapsedMs();
+      deadline_ms_ = std::min(deadline_ms_, now + std::max(o_.improve_min_ms, now));
+    }
+    best_ = v;
+    r_.best = std::move(t);
+    r_.cost = n.cost;
+    r_.makespan = n.time;
+    if (o_.on_plan) o_.on_plan(*r_.best, r_.cost, r_.makespan);
+    if (o_.good_enough && o_.good_enough(r_.cost, r_.makespan)) stop_ = true;
+  }
+
+  FirstPlanResult Finish(bool exhausted) {
+    r_.exhausted = exhausted && !stop_;
+    r_.elapsed_ms =
+        std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0_).count();
+    return r_;
+  }
+
+  const Domain& d_;
+  const StatePlan& sp_;
+  const FirstPlanOptions& o_;
+  long tps_;
+  Expander ex_;
+  RelaxedPlan rp_;
+  Clock::time_point t0_;
+  std::vector<Node> pool_;
+  std::unordered_map<int, std::vector<std::pair<int, int>>> helpful_;
+  std::unordered_map<int, double> h_;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open_;
+  std::unordered_map<std::vector<long>, Value, KeyHash> seen_;
+  std::optional<Value> best_;
+  long seq_ = 0;
+  long deadline_ms_ = o_.time_limit_ms;
+  bool stop_ = false;
+  FirstPlanResult r_;
+};
+
+}  // namespace
+
+FirstPlanResult FindFirstPlan(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o) {
+  return Search(d, sp, o).Run();
+}
+
+}  // namespace ctb

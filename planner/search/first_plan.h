@@ -1,0 +1,65 @@
+// The first-plan engine (issue 18): a heuristic forward search over the network of timed automata
+// in time, as temporal planners do. It finds plans in milliseconds where the exact engines
+// (MiniZinc + Gecode, z3) need a model per horizon, but proves nothing: a plan it returns is only
+// `feasible` unless it meets a lower bound every plan obeys (solve/bounds.h).
+//
+// States are the automata's locations, the clocks of their current locations (entry times) and
+// the state plan's monitors (episodes started and ended with their times, the events of temporal
+// constraints). Successors choose the commands of the current stage and the time of the next
+// event, under the rules of the independent verifier (planner/verify), which is the semantics'
+// reference: guards on the stage before, durations, automatic transitions due, commanded
+// transitions that must fire, determinacy, concise runs, episodes from the first event their
+// condition holds, temporal constraints, the first acceptance of the end state, the maintenance
+// constraint. Every plan returned has passed VerifyTrajectory; one that does not is dropped.
+//
+// Greedy best-first search with deferred evaluation and preferred successors, guided by a
+// relaxed-plan (FF) heuristic over the automata's location facts (costs are durations for
+// makespan, transition costs otherwise), then, while time remains, the same search continues and
+// keeps only strictly better plans (anytime). Not complete: it may find no plan where one exists.
+//
+// Declines (no plan, `declined` set) state plans whose conditions read commands or fixed stages,
+// and state plans with shared events.
+// Thread-safe: calls share nothing. Never throws.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "planner/model/domain.h"
+#include "planner/model/state_plan.h"
+#include "planner/model/trajectory.h"
+
+namespace ctb {
+
+struct FirstPlanOptions {
+  Objective objective = Objective::kCost;
+  long time_limit_ms = 500;  // the whole search, improvements included
+  // After the first plan (found at t ms) the search goes on for at most max(improve_min_ms,
+  // t) more, within time_limit_ms: improvements are cheap near the first plan, rare later.
+  long improve_min_ms = 20;
+  int max_events = 32;       // plans with more events are not returned
+  const std::atomic<bool>* cancel = nullptr;
+  // Stop at the first verified plan for which this returns true (one that meets a proven lower
+  // bound: no plan is better). Optional.
+  std::function<bool(long cost, long makespan_ticks)> good_enough;
+  // Called with each strictly better verified plan, on the calling thread.
+  std::function<void(const Trajectory&, long cost, long makespan_ticks)> on_plan;
+};
+
+struct FirstPlanResult {
+  std::optional<Trajectory> best;  // verified; horizon = goal_event
+  long cost = 0;
+  long makespan = 0;               // ticks
+  long expanded = 0;               // states expanded
+  long generated = 0;
+  long rejected = 0;               // plans the verifier refused (a bug in the engine if > 0)
+  long elapsed_ms = 0;
+  bool exhausted = false;          // the search space (as the engine sees it) was exhausted
+  std::string declined;            // why the engine did not run; empty when it ran
+};
+
+FirstPlanResult FindFirstPlan(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o);
+
+}  // namespace ctb

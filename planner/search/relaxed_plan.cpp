@@ -1,0 +1,196 @@
+#include "planner/search/relaxed_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+#include "planner/analyze/earliest.h"  // RequiredLocations
+
+namespace ctb::search {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::size_t kMaxAlternatives = 256;
+
+using Atoms = std::vector<std::pair<int, int>>;  // (automaton, location)
+
+// The alternatives of a guard as the positive location atoms each needs (a disjunctive normal
+// form keeping only those atoms). Beyond kMaxAlternatives, one empty alternative: needing less is
+// still a relaxation. The same reading as planner/analyze/relaxed_cost.cpp.
+std::vector<Atoms> Alternatives(const Expr& e) {
+  switch (e.op) {
+    case Expr::Op::kFalse: return {};
+    case Expr::Op::kAtom:
+      if (e.var_kind == VarKind::kLocation && !e.not_equal && e.index.kind != IndexKind::kFixed)
+        return {{{e.target, e.value_code}}};
+      return {{}};
+    case Expr::Op::kOr: {
+      auto out = Alternatives(e.kids[0]);
+      auto more = Alternatives(e.kids[1]);
+      out.insert(out.end(), more.begin(), more.end());
+      if (out.size() > kMaxAlternatives) return {{}};
+      return out;
+    }
+    case Expr::Op::kAnd: {
+      std::vector<Atoms> out;
+      for (const Atoms& x : Alternatives(e.kids[0]))
+        for (const Atoms& y : Alternatives(e.kids[1])) {
+          Atoms both = x;
+          both.insert(both.end(), y.begin(), y.end());
+          out.push_back(std::move(both));
+          if (out.size() > kMaxAlternatives) return {{}};
+        }
+      return out;
+    }
+    default: return {{}};
+  }
+}
+
+Atoms Needs(const Condition& c) {
+  Atoms out;
+  RequiredLocations(c.expr, out);
+  return out;
+}
+
+}  // namespace
+
+RelaxedPlan::RelaxedPlan(const Domain& d, const StatePlan& sp, Objective objective,
+                         long ticks_per_second)
+    : d_(d), sp_(sp), objective_(objective), tps_(ticks_per_second) {
+  for (const auto& a : d.automata) {
+    offset_.push_back(facts_);
+    facts_ += static_cast<int>(a.locations.size());
+  }
+  pre_of_.resize(facts_);
+  for (std::size_t a = 0; a < d.automata.size(); ++a) {
+    const auto& trs = d.automata[a].transitions;
+    for (std::size_t ti = 0; ti < trs.size(); ++ti) {
+      const Transition& tr = trs[ti];
+      const long lo = std::lround(tr.duration.lo * static_cast<double>(tps_));
+      const double base = objective == Objective::kMakespan
+                              ? static_cast<double>(lo) + 0.01
+                              : static_cast<double>(tr.cost) + 1e-6 * static_cast<double>(lo);
+      for (const Atoms& alt : Alternatives(tr.guard)) {
+        Action act;
+        act.pre.push_back(Fact(static_cast<int>(a), tr.from));
+        for (auto [b, l] : alt) {
+          const int f = Fact(b, l);
+          if (std::find(act.pre.begin(), act.pre.end(), f) == act.pre.end()) act.pre.push_back(f);
+        }
+        act.add = Fact(static_cast<int>(a), tr.to);
+        act.automaton = static_cast<int>(a);
+        act.transition = static_cast<int>(ti);
+        act.cost = base;
+        act.lo = lo;
+        act.choosable = (tr.commanded && tr.command > 0) || (!tr.commanded && tr.controllable);
+        for (int f : act.pre) pre_of_[f].push_back(static_cast<int>(actions_.size()));
+        actions_.push_back(std::move(act));
+      }
+    }
+  }
+  goal_ = Needs(sp.goal);
+  for (const auto& ep : sp.episodes) ep_acc_.push_back(Needs(ep.accepting));
+  for (const auto& tc : sp.temporals) {
+    tc_ev1_.push_back(Needs(tc.event1));
+    tc_ev2_.push_back(Needs(tc.event2));
+  }
+}
+
+double RelaxedPlan::ActionCost(const Action& act, const Node& n) const {
+  const int a = act.automaton;
+  if (act.pre[0] != Fact(a, n.loc[a]) || act.lo == 0) return act.cost;
+  // The first transition out of the current location: the clock has already run.
+  const long spent = std::min(act.lo, n.time - n.entry[a]);
+  return act.cost - (objective_ == Objective::kMakespan ? 1.0 : 1e-6) * static_cast<double>(spent);
+}
+
+void RelaxedPlan::Needed(const Node& n, std::vector<int>& facts, double& wait) const {
+  for (auto [a, l] : goal_) facts.push_back(Fact(a, l));
+  const Monitors& m = n.mon;
+  wait = 0;
+  for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+    if (m.ep_start[p] < 0)
+      for (auto [a, l] : ep_acc_[p]) facts.push_back(Fact(a, l));
+    else if (m.ep_end[p] < 0)
+      wait = std::max(wait, static_cast<double>(m.ep_start_t[p] +
+                                                std::lround(sp_.episodes[p].lower * tps_) - n.time));
+  }
+  for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+    if (m.tc_k1[q] < 0)
+      for (auto [a, l] : tc_ev1_[q]) facts.push_back(Fact(a, l));
+    if (m.tc_k2[q] < 0)
+      for (auto [a, l] : tc_ev2_[q]) facts.push_back(Fact(a, l));
+    if ((m.tc_k1[q] < 0) != (m.tc_k2[q] < 0))
+      wait = std::max(wait, static_cast<double>(m.tc_first_t[q] +
+                                                std::lround(sp_.temporals[q].lower * tps_) - n.time));
+  }
+}
+
+Estimate RelaxedPlan::Evaluate(const Node& n) const {
+  Estimate est;
+  std::vector<double> cost(facts_, kInf);
+  std::vector<int> support(facts_, -1);
+  std::vector<int> unsat(actions_.size());
+  for (std::size_t i = 0; i < actions_.size(); ++i) unsat[i] = static_cast<int>(actions_[i].pre.size());
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  std::vector<char> settled(facts_, 0);
+  for (std::size_t a = 0; a < d_.automata.size(); ++a) {
+    const int f = Fact(static_cast<int>(a), n.loc[a]);
+    cost[f] = 0;
+    queue.emplace(0.0, f);
+  }
+  // h_add by a generalised Dijkstra: an action's cost is its own plus its preconditions'.
+  while (!queue.empty()) {
+    auto [c, f] = queue.top();
+    queue.pop();
+    if (settled[f]) continue;
+    settled[f] = 1;
+    for (int ai : pre_of_[f]) {
+      if (--unsat[ai] != 0) continue;
+      const Action& act = actions_[ai];
+      double sum = ActionCost(act, n);
+      for (int p : act.pre) sum += cost[p];
+      if (sum < cost[act.add]) {
+        cost[act.add] = sum;
+        support[act.add] = ai;
+        queue.emplace(sum, act.add);
+      }
+    }
+  }
+  std::vector<int> stack;
+  double wait = 0;
+  Needed(n, stack, wait);
+  for (int f : stack)
+    if (cost[f] == kInf) {
+      est.dead = true;
+      return est;
+    }
+  // The relaxed plan: the best supporters of every needed fact, each action counted once.
+  std::vector<char> marked(actions_.size(), 0), seen(facts_, 0);
+  double h = 0;
+  while (!stack.empty()) {
+    const int f = stack.back();
+    stack.pop_back();
+    if (seen[f] || cost[f] == 0) continue;
+    seen[f] = 1;
+    const int ai = support[f];
+    if (marked[ai]) continue;
+    marked[ai] = 1;
+    const Action& act = actions_[ai];
+    h += ActionCost(act, n);
+    bool now = true;
+    for (int p : act.pre) {
+      stack.push_back(p);
+      now = now && cost[p] == 0;
+    }
+    if (now && act.choosable) est.helpful.emplace_back(act.automaton, act.transition);
+  }
+  est.h = h + (objective_ == Objective::kMakespan ? 1.0 : 1e-6) * wait;
+  return est;
+}
+
+}  // namespace ctb::search

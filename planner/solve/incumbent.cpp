@@ -1,0 +1,61 @@
+#include "planner/solve/incumbent.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "planner/search/first_plan.h"
+#include "planner/verify/verify.h"
+
+namespace ctb::solve {
+
+long FirstPlanBudgetMs(const SolveOptions& o) {
+  if (o.first_plan_ms >= 0) return o.first_plan_ms;
+  return std::min(500L, o.time_limit_ms / 10);
+}
+
+std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                                       Objective objective, int max_events,
+                                       const ObjectiveBounds& bounds, Clock::time_point t0,
+                                       Json& stats, long& found_ms) {
+  const long budget = FirstPlanBudgetMs(o);
+  if (budget <= 0) return std::nullopt;
+  const long tps = std::lround(1.0 / d.time_resolution);
+  FirstPlanOptions fo;
+  fo.objective = objective;
+  fo.time_limit_ms = budget;
+  fo.max_events = max_events;
+  fo.cancel = o.cancel;
+  fo.good_enough = [&](long cost, long makespan) {
+    return MeetsLowerBounds(bounds, objective, cost, makespan);
+  };
+  std::optional<Plan> best;
+  fo.on_plan = [&](const Trajectory& t, long cost, long makespan) {
+    // The same verifier as every engine's plan: one that fails is dropped, never shown.
+    auto problems = VerifyTrajectory(t, d, sp, tps);
+    if (!problems.empty()) {
+      spdlog::error("first-plan engine: a plan failed verification ({}); dropped", problems[0]);
+      return;
+    }
+    best = Plan{t, cost, makespan};
+    found_ms = MsSince(t0);
+    if (o.on_progress)
+      o.on_progress({{"kind", ObjectiveName(objective)}, {"cost", cost},
+                     {"horizon", t.goal_event},
+                     {"makespan", static_cast<double>(makespan) / static_cast<double>(tps)},
+                     {"elapsed_ms", found_ms}, {"bound", BoundJson(bounds, objective, tps)},
+                     {"found_by", "heuristic"}});
+  };
+  FirstPlanResult r = FindFirstPlan(d, sp, fo);
+  Json info = {{"ms", r.elapsed_ms}, {"expanded", r.expanded}, {"found", best.has_value()}};
+  if (!r.declined.empty()) info["declined"] = r.declined;
+  if (r.rejected > 0) {
+    info["rejected"] = r.rejected;
+    spdlog::error("first-plan engine: {} plan(s) failed verification", r.rejected);
+  }
+  stats["first_plan"] = info;
+  return best;
+}
+
+}  // namespace ctb::solve

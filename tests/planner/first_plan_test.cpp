@@ -1,0 +1,126 @@
+// The first-plan engine (planner/search, issue 18): plans on the shipped examples, and on random
+// problems no plan the verifier refuses (the engine follows the verifier's rules exactly).
+#include "planner/search/first_plan.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "planner/verify/verify.h"
+#include "random_problem.h"
+#include "test_util.h"
+
+namespace ctb {
+namespace {
+
+FirstPlanResult Find(const Domain& d, const StatePlan& sp, Objective objective,
+                     long limit_ms = 2000) {
+  FirstPlanOptions o;
+  o.objective = objective;
+  o.time_limit_ms = limit_ms;
+  return FindFirstPlan(d, sp, o);
+}
+
+FirstPlanResult FindExample(const std::string& domain, const std::string& file,
+                            Objective objective) {
+  const Domain& d = testing::ShippedDomain(domain);
+  StatePlan sp = testing::ShippedStatePlan(domain, testing::ConfigDir() + "/examples/" + file);
+  FirstPlanResult r = Find(d, sp, objective);
+  if (r.best) {
+    EXPECT_TRUE(VerifyTrajectory(*r.best, d, sp, 1).empty()) << file;
+  }
+  EXPECT_EQ(r.rejected, 0) << file;
+  return r;
+}
+
+TEST(FirstPlan, SearchRescueRobot1RescuesPerson1At11) {
+  FirstPlanResult r = FindExample("search_rescue", "search_rescue/test2.json", Objective::kMakespan);
+  ASSERT_TRUE(r.best);
+  EXPECT_EQ(r.makespan, 11);  // the optimum (thesis 5.3.2)
+}
+
+TEST(FirstPlan, AssemblyAToTheFloorThenBOnA) {
+  FirstPlanResult r = FindExample("assembly", "assembly/test.json", Objective::kMakespan);
+  ASSERT_TRUE(r.best);
+  EXPECT_GE(r.makespan, 4);  // the optimum
+  EXPECT_LE(r.makespan, 6);
+}
+
+TEST(FirstPlan, PresentationTestPrompt1) {
+  FirstPlanResult r =
+      FindExample("presentation", "presentation/test1_cot.json", Objective::kMakespan);
+  ASSERT_TRUE(r.best);
+  EXPECT_GE(r.makespan, 2430);  // the optimum
+}
+
+TEST(FirstPlan, EveryShippedExampleGivesOnlyVerifiedPlans) {
+  for (const auto& [domain, file] :
+       std::vector<std::pair<std::string, std::string>>{
+           {"presentation", "presentation/incontext.json"},
+           {"presentation", "presentation/test1_direct.json"},
+           {"presentation", "presentation/test2_cot.json"},
+           {"search_rescue", "search_rescue/incontext.json"},
+           {"search_rescue", "search_rescue/test1.json"},
+           {"assembly", "assembly/incontext.json"}})
+    for (Objective obj : {Objective::kCost, Objective::kMakespan, Objective::kCostThenMakespan})
+      FindExample(domain, file, obj);
+}
+
+TEST(FirstPlan, DeclinesConditionsThatReadCommands) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  Diagnostics diags;
+  auto sp = LoadStatePlan(testing::MustParse(R"({
+    "initial_state": {"robot1": "outside", "robot2": "outside", "door1": "closed",
+                      "door2": "closed", "door3": "open"},
+    "end_state": {"maintenance_constraint": "true",
+                  "goal_constraint": "robot1u[i]==goToDoor1"}})"), d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  FirstPlanResult r = Find(d, *sp, Objective::kCost);
+  EXPECT_FALSE(r.best);
+  EXPECT_NE(r.declined.find("commands"), std::string::npos) << r.declined;
+}
+
+TEST(FirstPlan, StopsWhenGoodEnough) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  StatePlan sp = testing::ShippedStatePlan(
+      "search_rescue", testing::ConfigDir() + "/examples/search_rescue/test2.json");
+  FirstPlanOptions o;
+  o.objective = Objective::kMakespan;
+  int plans = 0;
+  o.on_plan = [&](const Trajectory&, long, long) { ++plans; };
+  o.good_enough = [](long, long makespan) { return makespan <= 1000; };
+  FirstPlanResult r = FindFirstPlan(d, sp, o);
+  ASSERT_TRUE(r.best);
+  EXPECT_EQ(plans, 1);
+  EXPECT_FALSE(r.exhausted);
+}
+
+// Random problems (the differential suite's generator): guards across automata, episodes,
+// temporal and shared-event constraints, every objective. The engine replays the verifier's
+// rules while it searches, so it must never propose a plan the verifier refuses.
+TEST(FirstPlan, RandomProblemsNeverGiveAPlanTheVerifierRefuses) {
+  int found = 0, ran = 0;
+  for (unsigned seed = 0; seed < 200; ++seed) {
+    testing::ProblemGenerator gen(seed);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    auto sp = d ? LoadStatePlan(p.state_plan, *d, diags) : std::nullopt;
+    ASSERT_TRUE(sp) << "seed " << seed << testing::AllErrors(diags);
+    FirstPlanResult r = Find(*d, *sp, sp->objective, 200);
+    EXPECT_EQ(r.rejected, 0) << "seed " << seed << "\n" << p.Describe();
+    if (!r.declined.empty()) continue;
+    ++ran;
+    if (!r.best) continue;
+    ++found;
+    const long tps = std::lround(1.0 / d->time_resolution);
+    auto problems = VerifyTrajectory(*r.best, *d, *sp, tps);
+    EXPECT_TRUE(problems.empty()) << "seed " << seed << ": " << problems[0];
+  }
+  // Most random problems are feasible and small: the engine must find plans for many of them.
+  EXPECT_GT(ran, 100);
+  EXPECT_GT(found, ran / 3) << found << " of " << ran;
+}
+
+}  // namespace
+}  // namespace ctb
