@@ -22,7 +22,8 @@ namespace {
 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
-                const std::string& solver_name) {
+                const std::string& solver_name,
+                const std::optional<ObjectiveBounds>& bounds = std::nullopt) {
   const long tps = std::lround(1.0 / d.time_resolution);
   Json out;
   out["status"] = c.status;
@@ -50,7 +51,7 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
   out["max_horizon"] = max_horizon;
   if (c.status == "feasible") {
     // How far from optimal the plan may be: a bound every plan obeys.
-    out["bound"] = BoundJson(LowerBounds(d, sp), objective, tps);
+    out["bound"] = BoundJson(bounds ? *bounds : LowerBounds(d, sp), objective, tps);
   }
   out["verified"] = c.best.has_value();
   out["stats"] = {{"solver", c.engine.empty() ? solver_name : c.engine},
@@ -139,7 +140,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   const std::string solver = o.search == "z3" ? Z3EngineBackend().Name()
                                               : (o.backend ? *o.backend : DefaultBackend()).Name();
   Json stats = Json::object();
-  if (o.static_analysis) {
+  if (o.static_analysis && !o.history) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates
     // the runs, so a conflict holds whatever the horizon.
     if (auto conflict = FindStaticConflict(d, sp)) {
@@ -149,7 +150,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
       return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
     }
   }
-  if (o.decompose) {
+  if (o.decompose && !o.history) {
     std::vector<SubProblem> parts = SplitProblem(d, sp);
     if (parts.size() > 1) {
       auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
@@ -161,7 +162,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   mono.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
   Core c = SolveOneModel(d, sp, mono);
   if (c.error) return *c.error;
-  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
+  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds);
 }
 
 }  // namespace ctb
