@@ -302,6 +302,11 @@ class Builder {
       entry_[e.automaton] = e.time;
     }
     if (!entries.empty()) PushStage(entries.back().time);
+    auto order = [](const auto& x, const auto& y) {
+      return x.event != y.event ? x.event < y.event : x.automaton < y.automaton;
+    };
+    std::sort(h.fired.begin(), h.fired.end(), order);
+    std::sort(h.jumps.begin(), h.jumps.end(), order);
   }
 
   // Observations that differ from the history: one event at now.

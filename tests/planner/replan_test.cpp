@@ -32,7 +32,7 @@ Json MustSolve(const Problem& p, Objective objective) {
   return std::get<Json>(r);
 }
 
-std::variant<Json, Error> Run(const Problem& p, const Json& body, Objective objective,
+std::variant<Json, Error> RunReplan(const Problem& p, const Json& body, Objective objective,
                               Keep keep = Keep::kNone) {
   ReplanRequest req;
   Keep from_body = keep;
@@ -45,7 +45,7 @@ std::variant<Json, Error> Run(const Problem& p, const Json& body, Objective obje
 }
 
 Json MustReplan(const Problem& p, const Json& body, Objective objective, Keep keep = Keep::kNone) {
-  auto r = Run(p, body, objective, keep);
+  auto r = RunReplan(p, body, objective, keep);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json();
@@ -228,7 +228,7 @@ TEST(ReplanAssembly, BlockOnTheFloorInsteadOfItsTarget) {
 TEST(ReplanErrors, LocatedByPointers) {
   Problem p = Load("search_rescue", "search_rescue/test2.json");
   auto bad = [&](const Json& body, const std::string& pointer) {
-    auto r = Run(p, body, Objective::kMakespan);
+    auto r = RunReplan(p, body, Objective::kMakespan);
     auto* e = std::get_if<Error>(&r);
     ASSERT_TRUE(e) << body.dump();
     EXPECT_EQ(e->code, ErrorCode::kInvalidInput);
