@@ -355,33 +355,53 @@ class Builder {
     PushStage(now_);
   }
 
-  // An automatic transition the model says must have fired before now (its guard held and its
-  // clock passed its lower bound) but the history lacks: the automaton is still there at now
-  // (a warm-up running past its duration). The future starts with an event at now, at which it
-  // fires at once; the answer shows the automaton's stay as an observation.
+  // An automaton still in a location the model says it must have left before now: an automatic
+  // transition whose guard held and whose lower bound passed (a warm-up running past its
+  // duration), or a clock beyond the upper bound of an automatic or controllable transition. It
+  // is still there at now (the answer shows its stay as an observation at now), its clock is
+  // taken as at most that upper bound, and the transition fires at now, the earliest moment the
+  // future has.
   void CatchUpOverdue() {
     History& h = s_.history;
     const long last = h.times.back();
-    if (last >= now_) return;
-    std::vector<ObservedJump> jumps;
-    const int k = static_cast<int>(h.times.size());
+    std::vector<int> late;
     for (std::size_t a = 0; a < d_.automata.size(); ++a) {
       const Automaton& au = s_.model_domain.automata[a];
+      bool due = false;
       for (const Transition& t : au.transitions) {
-        if (t.from != loc_[a] || t.commanded || t.controllable || !t.guard_info.commands_read.empty())
-          continue;
+        if (t.from != loc_[a] || t.commanded || !t.guard_info.commands_read.empty()) continue;
         const bool holds = Evaluate(t.guard, [&](const Expr& atom) {
           return atom.var_kind == VarKind::kLocation ? loc_[atom.target] : 0;
         });
-        if (holds && std::max(last, entry_[a] + Ticks(t.duration.lo, s_.tps)) < now_) {
-          jumps.push_back({k, static_cast<int>(a), loc_[a], loc_[a]});
-          break;
+        if (!holds) continue;
+        if (t.duration.hi && now_ - entry_[a] > Ticks(*t.duration.hi, s_.tps)) {
+          entry_[a] = now_ - Ticks(*t.duration.hi, s_.tps);
+          due = true;
         }
+        if (!t.controllable && std::max(last, entry_[a] + Ticks(t.duration.lo, s_.tps)) < now_)
+          due = true;
       }
+      if (due) late.push_back(static_cast<int>(a));
     }
-    if (jumps.empty()) return;
-    for (const auto& j : jumps) h.jumps.push_back(j);
-    PushStage(now_);
+    if (late.empty()) return;
+    if (last < now_) {
+      const int k = static_cast<int>(h.times.size());
+      for (int a : late) h.jumps.push_back({k, a, loc_[a], loc_[a]});
+      PushStage(now_);
+      return;
+    }
+    // The last event is at now already: its stage takes the clocks, and the stays are shown there.
+    const int k = h.events();
+    for (int a : late) {
+      h.entry[a][k] = entry_[a];
+      bool moved = false;
+      for (const auto& j : h.jumps) moved = moved || (j.event == k && j.automaton == a);
+      for (const auto& f : h.fired) moved = moved || (f.event == k && f.automaton == a);
+      if (!moved) h.jumps.push_back({k, a, loc_[a], loc_[a]});
+    }
+    std::sort(h.jumps.begin(), h.jumps.end(), [](const auto& x, const auto& y) {
+      return x.event != y.event ? x.event < y.event : x.automaton < y.automaton;
+    });
   }
 
   // keep "started": an automaton whose stay began before now goes on with the transition the

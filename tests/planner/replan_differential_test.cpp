@@ -75,8 +75,9 @@ std::optional<Trajectory> FromAnswer(const Json& ans, const Domain& d, const Sta
         if (named != (c.commanded && c.command > 0)) continue;
         if (named && au.commands[c.command - 1] != tr["command"]) continue;
         const bool holds = Evaluate(c.guard, [&](const Expr& atom) {
-          return atom.var_kind == VarKind::kLocation ? t.locations[atom.target][k - 1]
-                                                     : t.commands[atom.target][k - 1];
+          if (atom.var_kind == VarKind::kLocation) return t.locations[atom.target][k - 1];
+          if (atom.target == a) return c.commanded ? c.command : 0;  // its own command
+          return t.commands[atom.target][k - 1];
         });
         if (holds || k <= p) idx = static_cast<int>(x);
       }
