@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 
 #include "test_util.h"
 
@@ -84,7 +85,6 @@ TEST(Replan, AtZeroWithNothingObservedIsTheOriginalOptimum) {
   for (auto [domain, file, objective] :
        {std::tuple{"search_rescue", "search_rescue/test2.json", Objective::kMakespan},
         std::tuple{"presentation", "presentation/test1_cot.json", Objective::kMakespan},
-        std::tuple{"assembly", "assembly/test.json", Objective::kMakespan},
         std::tuple{"search_rescue", "search_rescue/test1.json", Objective::kCost}}) {
     SCOPED_TRACE(file);
     Problem p = Load(domain, file);
@@ -99,18 +99,24 @@ TEST(Replan, AtZeroWithNothingObservedIsTheOriginalOptimum) {
 }
 
 // Along an optimal plan with nothing departing, the future is as good as the rest of the plan:
-// for makespan the same goal time, for cost the same cost.
+// for makespan the same goal time, for cost the same cost. Every transition time of the plan is
+// a `now` (assembly from t = 2 on: before that the replan is the whole problem again, 20 s on a
+// busy machine).
 TEST(Replan, AlongAnOptimalPlanTheFutureIsAsGood) {
-  for (auto [domain, file, objective] :
-       {std::tuple{"search_rescue", "search_rescue/test2.json", Objective::kMakespan},
-        std::tuple{"assembly", "assembly/test.json", Objective::kMakespan},
-        std::tuple{"search_rescue", "search_rescue/test1.json", Objective::kCost}}) {
+  for (auto [domain, file, objective, from] :
+       {std::tuple{"search_rescue", "search_rescue/test2.json", Objective::kMakespan, 0.0},
+        std::tuple{"presentation", "presentation/test1_cot.json", Objective::kMakespan, 0.0},
+        std::tuple{"assembly", "assembly/test.json", Objective::kMakespan, 2.0},
+        std::tuple{"search_rescue", "search_rescue/test1.json", Objective::kCost, 0.0}}) {
     SCOPED_TRACE(file);
     Problem p = Load(domain, file);
     Json plan = MustSolve(p, objective);
     ASSERT_EQ(plan["status"], "optimal");
-    for (const auto& tr : plan["transitions"]) {
-      const double now = tr["time"].get<double>() + 0.0;
+    std::set<double> times;
+    for (const auto& tr : plan["transitions"])
+      if (tr["time"].get<double>() >= from) times.insert(tr["time"].get<double>());
+    times.insert(plan["goal_reached_at"].get<double>());
+    for (const double now : times) {
       Json re = MustReplan(p, {{"now", now}, {"trajectory", plan}}, objective);
       SCOPED_TRACE("now = " + std::to_string(now));
       ASSERT_EQ(re["status"], "optimal") << re.dump();
