@@ -355,18 +355,21 @@ ObjectiveBounds HistoryBounds(const StatePlan& sp, const Situation& s) {
     }
     if (all_done) return b;
   }
-  // The time origin of the remaining problem: no transition from a location held at now fires
-  // before max(its entry + lo, now), so none fires before `origin + lo` (docs/replanning.md).
-  long origin = h.now;
+  // The remaining problem starts at now. A transition from a location held at now fires no
+  // earlier than max(entry + lo, now): in the domain the bounds read, its lower duration is what
+  // is left of it at now (docs/replanning.md).
+  const long origin = h.now;
+  Domain bd = s.analysis_domain;
   for (std::size_t a = 0; a < h.entry.size(); ++a)
-    for (const Transition& t : s.analysis_domain.automata[a].transitions)
+    for (Transition& t : bd.automata[a].transitions)
       if (t.from == h.locations[a][p])
-        origin = std::min(origin, std::max(h.entry[a][p], h.now - Ticks(t.duration.lo, s.tps)));
+        t.duration.lo = std::max(0.0, t.duration.lo - static_cast<double>(h.now - h.entry[a][p]) /
+                                                          static_cast<double>(s.tps));
   long floor = 0;
   auto r = Remaining(sp, s, origin, floor);
   if (!r) r = GoalOnly(sp, s);
   if (!r) return b;
-  const ObjectiveBounds rest = LowerBounds(s.analysis_domain, *r);
+  const ObjectiveBounds rest = LowerBounds(bd, *r);
   b.cost += rest.cost;
   b.events += std::max(1L, rest.events);  // the goal does not hold at now: g > p
   b.makespan_ticks = std::max({b.makespan_ticks, h.now, floor, origin + rest.makespan_ticks});

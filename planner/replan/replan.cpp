@@ -166,6 +166,9 @@ std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const Rep
   so.static_analysis = false;
   so.decompose = false;
   so.max_horizon = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
+  // The previous plan's future usually fits again: start the horizon there (a larger model holds
+  // every smaller plan, so this loses nothing).
+  so.first_horizon = p + s.previous_future_events;
   auto solved = Solve(s.model_domain, sp, so);
   if (auto* e = std::get_if<Error>(&solved)) return *e;
   Json ans = std::get<Json>(std::move(solved));

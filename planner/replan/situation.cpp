@@ -196,6 +196,9 @@ class Builder {
       return;
     }
     s_.have_previous = true;
+    if (const Json* ev = r.Get("events"); ev && ev->is_array())
+      for (const auto& e : *ev)
+        if (e.is_number() && Ticks(e.get<double>(), s_.tps) >= now_) ++s_.previous_future_events;
     for (std::size_t k = 0; k < ts->size(); ++k) {
       auto e = ReadEntry((*ts)[k], r.Child("transitions") + "/" + std::to_string(k), d_, s_.tps, diags_);
       if (!e) continue;

@@ -35,6 +35,7 @@ struct Situation {
   Domain analysis_domain;  // blocked transitions removed (for bounds and static checks)
   bool have_previous = false;
   std::vector<Planned> baseline;
+  int previous_future_events = 0;  // the previous plan's events at or after now
   long history_cost = 0;
 };
 

@@ -53,7 +53,7 @@ class Solver {
       return Finish(status);
     }
     // Grow the horizon until a plan exists.
-    int h = LowerBound();
+    int h = std::max(LowerBound(), std::min(o_.first_horizon, o_.max_horizon));
     Outcome r = Outcome::kInfeasible;
     while (h <= o_.max_horizon) {
       r = Attempt(h, std::nullopt);

@@ -60,6 +60,9 @@ struct SolveOptions {
   // state. Gecode only (the z3 engine has no history); no static analysis or split applies.
   std::shared_ptr<const History> history;
   std::optional<ObjectiveBounds> bounds;
+  // Where horizon growth starts when larger than the event bound (replanning: the previous
+  // plan's number of events). Sound at any value: a model holds every smaller plan.
+  int first_horizon = 0;
 };
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.
