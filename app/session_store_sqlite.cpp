@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <mutex>
 
-#include "server/session_store.h"
+#include "app/session_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -178,6 +178,11 @@ std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_
 
 std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c) {
   std::string error;
+  if (c.url == "memory") {  // the CLI's local mode: sessions die with the process
+    auto s = OpenSqliteStore(":memory:", c.max_sessions, c.idle_s, error);
+    if (!s) return Error{ErrorCode::kUnavailable, error, {}};
+    return s;
+  }
   if (c.url.empty() || c.url == "sqlite") {
     std::error_code ec;
     std::filesystem::create_directories(c.data_dir, ec);
@@ -212,4 +217,4 @@ std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const Sessio
   return s;
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app
