@@ -73,12 +73,17 @@ Json Seconds(long ticks, long tps) {
 
 // An infeasible answer decided before any solve.
 Json Infeasible(Objective objective, const Json& conflicts, const Situation& s, long ms,
-                const std::string& why) {
+                const std::string& why, int max_horizon) {
   return {{"status", "infeasible"},
           {"objective", {{"kind", ObjectiveName(objective)}, {"value", nullptr}}},
+          {"horizon", s.history.events()},
+          {"max_horizon", max_horizon},
           {"verified", false},
-          {"explanation", {{"conflicts", conflicts}, {"relaxations", Json::array()}}},
-          {"stats", {{"solver", why}, {"solve_ms", ms}, {"history_events", s.history.events()}}}};
+          {"explanation",
+           {{"conflicts", conflicts}, {"relaxations", Json::array()}, {"status", "minimal"}}},
+          {"stats",
+           {{"solver", why}, {"compile_ms", 0}, {"solve_ms", ms}, {"first_solution_ms", -1},
+            {"variables", 0}, {"solver_runs", 0}, {"history_events", s.history.events()}}}};
 }
 
 // keep "min_change": a second solve at the optimum's horizon, among plans at most as good as it,
@@ -153,19 +158,20 @@ std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const Rep
                                  std::to_string(kMaxHorizonLimit - 1) + " are supported");
     return Error::FromDiagnostics(ErrorCode::kInvalidInput, "history too long", diags);
   }
+  const int max_h = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
   if (o.precheck) {
     std::vector<Json> broken = replan::BrokenByHistory(sp, s);
     if (!broken.empty())
-      return Infeasible(objective, broken, s, MsSince(t0), "history check");
+      return Infeasible(objective, broken, s, MsSince(t0), "history check", max_h);
     if (auto cut = replan::GoalCutOff(d, sp, s))
-      return Infeasible(objective, Json::array({*cut}), s, MsSince(t0), "static analysis");
+      return Infeasible(objective, Json::array({*cut}), s, MsSince(t0), "static analysis", max_h);
   }
   SolveOptions so = o.solve;
   so.history = std::make_shared<const History>(s.history);
   so.bounds = replan::HistoryBounds(sp, s);
   so.static_analysis = false;
   so.decompose = false;
-  so.max_horizon = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
+  so.max_horizon = max_h;
   // The previous plan's future usually fits again: start the horizon there (a larger model holds
   // every smaller plan, so this loses nothing).
   so.first_horizon = p + s.previous_future_events;
@@ -179,7 +185,8 @@ std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const Rep
     if (!s.history.keep_next.empty()) text += " (keep: started holds every started transition)";
     Json conflicts = Json::array({{{"constraints", Json::array()}, {"text", text}}});
     if (auto cut = replan::GoalCutOff(d, sp, s)) conflicts = Json::array({*cut});
-    ans["explanation"] = {{"conflicts", conflicts}, {"relaxations", Json::array()}};
+    ans["explanation"] = {{"conflicts", conflicts}, {"relaxations", Json::array()},
+                          {"status", conflicts[0]["constraints"].empty() ? "unknown" : "minimal"}};
   }
   if (o.keep == Keep::kMinChange && s.have_previous && ans.contains("transitions"))
     MinimiseChanges(s.model_domain, d, sp, s, so, objective, o.solve.time_limit_ms - MsSince(t0), ans);
