@@ -108,6 +108,19 @@ struct PlanCall {
   RequestOptions options;
 };
 
+// Replanning during execution (contract section 11): in a session (its current state plan and
+// plan; the replan becomes a turn), or with a domain, a state plan and the plan being executed.
+struct ReplanCall {
+  std::optional<std::string> session;
+  DomainRef domain;      // without a session
+  Json state_plan;       // without a session
+  // The body's replanning fields, read by planner/replan: now, executed, observed, blocked and
+  // trajectory (in a session, the session's current plan when absent). Pointers stay the body's.
+  Json request;
+  RequestOptions options;
+  std::string keep = "none";  // none | started | min_change
+};
+
 enum class PlanStatus { kOptimal, kFeasible, kInfeasible, kUnknown };
 const char* PlanStatusName(PlanStatus s);
 
@@ -159,6 +172,8 @@ class Core {
   std::variant<ValidateAnswer, Error> Validate(const SolveCall& call);
   std::variant<TranslateAnswer, Error> Translate(const TranslateCall& call, const CallContext& ctx);
   std::variant<PlanAnswer, Error> Plan(const PlanCall& call, const CallContext& ctx);
+  // The answer document carries "session" when the call named one.
+  std::variant<Answer, Error> Replan(const ReplanCall& call, const CallContext& ctx);
 
   // {"session", "domain", "turns", "created", "updated"} (contract section 9).
   std::variant<Json, Error> GetSession(const std::string& id);

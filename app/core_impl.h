@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -37,6 +38,10 @@ struct Core::Impl {
   // Solves in a job slot; the job stops when ctx.cancelled() or Shutdown().
   std::variant<Answer, Error> SolveGated(const Domain& d, const StatePlan& sp, SolveOptions o,
                                          const CallContext& ctx);
+  // Runs `run` in a job slot with the job's cancel flag and progress set in its options.
+  std::variant<Answer, Error> RunGated(
+      SolveOptions o, const CallContext& ctx,
+      const std::function<std::variant<Json, Error>(const SolveOptions&)>& run);
   // The configured LLM client, else the demo recordings, else kUnavailable.
   std::variant<std::unique_ptr<LlmClient>, Error> Llm() const;
 };

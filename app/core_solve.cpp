@@ -169,6 +169,16 @@ std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& 
 
 std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StatePlan& sp,
                                                    SolveOptions o, const CallContext& ctx) {
+  return RunGated(std::move(o), ctx, [&](const SolveOptions& so) -> std::variant<Json, Error> {
+    auto r = ::ctb::Solve(d, sp, so);
+    if (auto* doc = std::get_if<Json>(&r)) AnnotateAnswer(d, sp, so, *doc);  // summary, explanation
+    return r;
+  });
+}
+
+std::variant<Answer, Error> Core::Impl::RunGated(
+    SolveOptions o, const CallContext& ctx,
+    const std::function<std::variant<Json, Error>(const SolveOptions&)>& run) {
   if (!gate.Enter(stopping)) {
     ++metrics.solver_rejected;
     return Error{ErrorCode::kBusy, "all solver slots are busy; retry later", {}};
@@ -206,11 +216,9 @@ std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StateP
     }
   } finish{done, watch, gate};
   try {
-    auto r = ::ctb::Solve(d, sp, o);
+    auto r = run(o);
     if (auto* e = std::get_if<Error>(&r)) return *e;
-    Json& doc = std::get<Json>(r);
-    AnnotateAnswer(d, sp, o, doc);  // summary; explanation when infeasible
-    return AnswerFromDocument(std::move(doc));
+    return AnswerFromDocument(std::move(std::get<Json>(r)));
   } catch (const std::bad_alloc&) {
     spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", "out of memory"}}).dump());
     return Error{ErrorCode::kUnavailable,

@@ -48,16 +48,23 @@ void UpdateSessionDoc(Json& doc, const std::vector<ChatMessage>& conversation, c
   for (const auto& m : conversation) conv.push_back({{"role", m.role}, {"content", m.content}});
   doc["conversation"] = conv;
   doc["state_plan"] = state_plan;
+  if (turn.contains("trajectory")) {
+    doc["trajectory"] = turn["trajectory"];  // the plan being executed, for /replan
+  }
   if (!doc.contains("turns") || !doc["turns"].is_array()) doc["turns"] = Json::array();
-  doc["turns"].push_back(turn);
+  Json recorded = turn;
+  recorded.erase("trajectory");
+  doc["turns"].push_back(recorded);
 }
 
 Json TurnRecord(const Json& command, const std::string& reasoning, const Json& state_plan, const Json& trajectory) {
   Json summary = Json::object();
   for (const char* k : {"status", "objective", "horizon", "goal_reached_at", "verified"})
     if (trajectory.is_object() && trajectory.contains(k)) summary[k] = trajectory[k];
-  return {{"command", command}, {"reasoning", reasoning}, {"state_plan", state_plan},
-          {"trajectory_summary", summary}, {"at", Iso8601(NowMs())}};
+  Json turn = {{"command", command}, {"reasoning", reasoning}, {"state_plan", state_plan},
+               {"trajectory_summary", summary}, {"at", Iso8601(NowMs())}};
+  if (trajectory.is_object() && trajectory.contains("transitions")) turn["trajectory"] = trajectory;
+  return turn;
 }
 
 Json SessionView(const StoredSession& s) {

@@ -2,8 +2,10 @@
 // it the routes answer with. Pure functions; never throw on a well-formed document, and tolerate
 // missing fields (a document written by an older version).
 //
-// doc = {"domain", "conversation": [{"role", "content"}], "state_plan",
-//        "turns": [{"command", "reasoning", "state_plan", "trajectory_summary", "at"}]}
+// doc = {"domain", "conversation": [{"role", "content"}], "state_plan", "trajectory"?,
+//        "turns": [{"command", "reasoning", "state_plan", "trajectory_summary", "at", "replan"?}]}
+// "trajectory" is the session's current plan (the last turn's, when it has one): what /replan
+// replans by default.
 #pragma once
 
 #include <string>
@@ -23,7 +25,9 @@ struct Session {
 
 Json NewSessionDoc(const std::string& domain);
 Session SessionFromDoc(const Json& doc);
-// Replaces the conversation and current state plan, and appends the turn.
+// Replaces the conversation and current state plan, and appends the turn; a turn's
+// "trajectory" (TurnRecord keeps the whole plan there) becomes the session's current plan and is
+// not stored in the turn itself.
 void UpdateSessionDoc(Json& doc, const std::vector<ChatMessage>& conversation, const Json& state_plan,
                       const Json& turn);
 // One turn: the command, reasoning, state plan, a summary of the trajectory (status, objective,

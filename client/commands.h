@@ -41,6 +41,16 @@ Runner AddPlan(CLI::App& app);
 // one sent with CTB_LLM_RESPONSE_FORMAT=json_schema); 2 for a bad domain.
 Runner AddSchema(CLI::App& app);
 
+// `ctburton replan --domain NAME|PATH FILE --trajectory PLAN --now T [--executed J] [--observed J]
+// [--blocked J] [--keep K]`: one replan (contract section 11); the answer JSON on stdout; 1 bad
+// input, 3 solver failure.
+Runner AddReplan(CLI::App& app);
+
+// `ctburton execute --domain NAME|PATH FILE [--speed N] [--fault SPEC]... [--faults-stdin]`:
+// dispatches the plan on a clock, prints each transition when due, injects faults, replans and
+// goes on; 0 when the goal is reached, 1 when a replan is infeasible or fails, 2 bad usage.
+Runner AddExecute(CLI::App& app);
+
 // `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
 Runner AddServe(CLI::App& app);
 

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddServe(app));
   runners.push_back(ctb::cli::AddPlan(app));
   runners.push_back(ctb::cli::AddSchema(app));
+  runners.push_back(ctb::cli::AddReplan(app));
+  runners.push_back(ctb::cli::AddExecute(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -217,6 +217,44 @@ class HttpFrontEnd::Impl {
     SendJson(res, 200, a.document);
   }
 
+  // POST /replan (contract section 11): in a session, or with domain/action_model, state_plan
+  // and trajectory; options may carry "keep".
+  void HandleReplan(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"session", "domain", "action_model", "state_plan", "trajectory",
+                                   "now", "executed", "observed", "blocked", "options", "stream"}))
+      return SendError(res, *e);
+    app::ReplanCall call;
+    auto session = OptString(*body, "session", "\"session\" must be a string");
+    if (auto* e = std::get_if<Error>(&session)) return SendError(res, *e);
+    call.session = std::get<std::optional<std::string>>(session);
+    if (!call.session) {
+      auto dom = DomainOf(*body);
+      if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+      call.domain = std::get<app::DomainRef>(dom);
+    } else if (body->contains("domain") || body->contains("action_model")) {
+      return SendError(res, Bad("a session replans its own domain", "/domain"));
+    }
+    if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
+    call.request = Json::object();
+    for (const char* k : {"now", "executed", "observed", "blocked", "trajectory"})
+      if (body->contains(k)) call.request[k] = (*body)[k];
+    Json options = body->value("options", Json::object());
+    if (options.is_object() && options.contains("keep")) {
+      if (!options["keep"].is_string())
+        return SendError(res, Bad("keep must be none, started or min_change", "/options/keep"));
+      call.keep = options["keep"];
+      options.erase("keep");
+    }
+    auto opts = app::ParseRequestOptions(options);
+    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    call.options = std::get<app::RequestOptions>(opts);
+    auto r = core_.Replan(call, Context(req, obs));
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    SendJson(res, 200, std::get<app::Answer>(r).document);
+  }
+
   void HandleValidate(const httplib::Request& req, httplib::Response& res) {
     auto body = Body(req, res);
     if (!body) return;
@@ -335,6 +373,9 @@ class HttpFrontEnd::Impl {
     SetUpServer();
     svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleSolve(q2, s2, o); });
+    }));
+    svr_.Post("/replan", Wrap("/replan", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleReplan(q2, s2, o); });
     }));
     svr_.Post("/validate", Wrap("/validate", [this](auto& q, auto& s) { HandleValidate(q, s); }));
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));

@@ -15,6 +15,8 @@ struct Context {
   const EncodeOptions& opts;
   std::string& out;
   int H;
+  // The first event the model's rules apply to: "0", or "P" after a fixed history.
+  std::string K0() const { return opts.history ? "P" : "0"; }
 };
 
 // How the stage of a domain variable is chosen when printing a condition.
@@ -32,6 +34,13 @@ void EmitHeader(const Context& c);
 void EmitAutomata(const Context& c);
 void EmitStatePlan(const Context& c);
 void EmitObjectiveAndSearch(const Context& c, Encoding& enc);
+// Replanning (encode_history.cpp): the fixed history, keep "started", and its data.
+void EmitHistory(const Context& c);
+void AddHistoryData(const Context& c, Json& data);
+// The search annotation of the model (encode_objective.cpp).
+std::string TimeOrderSearch(const Context& c);
+// Replanning, keep "min_change": the changes against the previous plan, minimised.
+std::string MinChangeSolve(const Context& c);
 
 }  // namespace encode
 }  // namespace ctb

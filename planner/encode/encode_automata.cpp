@@ -34,12 +34,13 @@ void EmitLocationUpdate(const Context& c) {
   o += "constraint forall(a in 1..NA)(L[a,0] = INIT[a] /\\ N[a,0] = 0);\n";
   o += "constraint forall(a in 1..NA, k in 0..H)(L[a,k] < NLOC[a]);\n";
   o += "constraint forall(a in 1..NA, k in 0..H-1)(X[a,k] in TRS[a]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(table([a, L[a,k], X[a,k], L[a,k+1]], TAB));\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(X[a,k] > 0 -> N[a,k+1] = e[k+1]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(X[a,k] = 0 -> N[a,k+1] = N[a,k]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(e[k+1] - N[a,k] >= LO[X[a,k]] /\\ "
-       "e[k+1] - N[a,k] <= HI[X[a,k]]);\n";
-  o += "constraint forall(a in 1..NA, k in 0..H-1)(X[a,k] > 0 -> L[a,k] = FROM[X[a,k]]);\n";
+  // After a fixed history (replanning) these rules apply from event P on.
+  const std::string rng = "forall(a in 1..NA, k in " + c.K0() + "..H-1)";
+  o += "constraint " + rng + "(table([a, L[a,k], X[a,k], L[a,k+1]], TAB));\n";
+  o += "constraint " + rng + "(X[a,k] > 0 -> N[a,k+1] = e[k+1]);\n";
+  o += "constraint " + rng + "(X[a,k] = 0 -> N[a,k+1] = N[a,k]);\n";
+  o += "constraint " + rng + "(e[k+1] - N[a,k] >= LO[X[a,k]] /\\ e[k+1] - N[a,k] <= HI[X[a,k]]);\n";
+  o += "constraint " + rng + "(X[a,k] > 0 -> L[a,k] = FROM[X[a,k]]);\n";
   if (c.opts.redundant)
     o += "constraint forall(a in 1..NA, k in 0..H)(N[a,k] <= e[k]);  % redundant\n";
 }
@@ -53,7 +54,7 @@ void EmitGuards(const Context& c) {
       const Transition& t = au.transitions[k];
       if (IsTrue(t.guard)) continue;
       int id = c.info.transitions_of[a][k];
-      c.out += "constraint forall(k in 0..H-1)(X[" + std::to_string(a + 1) + ",k] = " +
+      c.out += "constraint forall(k in " + c.K0() + "..H-1)(X[" + std::to_string(a + 1) + ",k] = " +
                std::to_string(id) + " -> " +
                PrintCondition(c, t.guard, GuardInfo(), CondMode::kGuard) + ");\n";
     }
@@ -73,11 +74,13 @@ void EmitCommands(const Context& c) {
       continue;
     }
     c.out += "constraint forall(k in 0..H-1)(U[" + A + ",k] <= NCMD[" + A + "]);\n";
+    if (c.opts.history)
+      c.out += "constraint forall(k in 0..P-1)(U[" + A + ",k] = CMD[X[" + A + ",k]]);\n";
     const auto& au = c.d.automata[a];
     for (std::size_t k = 0; k < au.transitions.size(); ++k) {
       const Transition& t = au.transitions[k];
       if (!t.commanded) continue;
-      c.out += "constraint forall(k in 0..H-1)((" + Enabled(c, static_cast<int>(a), t) +
+      c.out += "constraint forall(k in " + c.K0() + "..H-1)((" + Enabled(c, static_cast<int>(a), t) +
                ") -> X[" + A + ",k] = " + std::to_string(c.info.transitions_of[a][k]) + ");\n";
     }
   }
@@ -99,18 +102,18 @@ void EmitAutomatic(const Context& c) {
       std::string en = Enabled(c, static_cast<int>(a), t);
       if (t.controllable) {
         if (c.info.hi[id] < 0) continue;
-        c.out += "constraint forall(k in 0..H-1)(k < g -> ((" + en + ") -> e[k+1] - N[" + A +
+        c.out += "constraint forall(k in " + c.K0() + "..H-1)(k < g -> ((" + en + ") -> e[k+1] - N[" + A +
                  ",k] <= " + std::to_string(c.info.hi[id]) + "));\n";
         continue;
       }
       long lo = c.info.lo[id];
       std::string fire = "X[" + A + ",k] = " + std::to_string(id);
       if (lo == 0) {
-        c.out += "constraint forall(k in 0..H-1)(k < g -> ((" + en + ") -> (e[k+1] = e[k] /\\ " +
+        c.out += "constraint forall(k in " + c.K0() + "..H-1)(k < g -> ((" + en + ") -> (e[k+1] = e[k] /\\ " +
                  fire + ")));\n";
       } else {
         std::string due = "N[" + A + ",k] + " + std::to_string(lo);
-        c.out += "constraint forall(k in 0..H-1)(k < g -> ((" + en + ") -> (e[k+1] <= max(e[k], " +
+        c.out += "constraint forall(k in " + c.K0() + "..H-1)(k < g -> ((" + en + ") -> (e[k+1] <= max(e[k], " +
                  due + ") /\\ (e[k+1] >= " + due + " -> " + fire + "))));\n";
       }
     }
@@ -122,9 +125,11 @@ void EmitAutomatic(const Context& c) {
 void EmitConcise(const Context& c) {
   c.out += "% concise runs\n";
   if (c.opts.idle_events)
-    c.out += "constraint forall(k in 0..H-1)(exists(a in 1..NA)(X[a,k] > 0) -> k < g);  % relaxed\n";
+    c.out += "constraint forall(k in " + c.K0() +
+             "..H-1)(exists(a in 1..NA)(X[a,k] > 0) -> k < g);  % relaxed\n";
   else
-    c.out += "constraint forall(k in 0..H-1)((k < g) <-> exists(a in 1..NA)(X[a,k] > 0));\n";
+    c.out += "constraint forall(k in " + c.K0() +
+             "..H-1)((k < g) <-> exists(a in 1..NA)(X[a,k] > 0));\n";
   c.out += "constraint forall(k in 0..H-1)(k >= g -> e[k+1] = e[k]);\n";
 }
 
@@ -141,7 +146,7 @@ void EmitTimeDistances(const Context& c) {
   }
   if (set.empty()) return;
   c.out += "% redundant: minimum time between entering two locations\n";
-  c.out += "constraint forall(a in {" + set + "}, k1 in 0..H-1, k2 in k1+1..H)(N[a,k2] >= "
+  c.out += "constraint forall(a in {" + set + "}, k1 in " + c.K0() + "..H-1, k2 in k1+1..H)(N[a,k2] >= "
            "N[a,k1] + DIST[a, L[a,k1], L[a,k2]]);\n";
 }
 

@@ -50,13 +50,15 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
   o += "constraint forall(a in 1..NA)(CS[a,0] = 0);\n";
   o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,k+1] = CS[a,k] + COST[X[a,k]]);\n";
   if (c.opts.redundant)
-    o += "constraint forall(a in 1..NA, k in 0..H-1)(CS[a,H] - CS[a,k] >= CDIST[a, L[a,k], "
-         "L[a,H]]);  % redundant\n";
+    o += "constraint forall(a in 1..NA, k in " + c.K0() + "..H-1)(CS[a,H] - CS[a,k] >= "
+         "CDIST[a, L[a,k], L[a,H]]);  % redundant\n";
   // Several automata may fire at one event: the total is bounded by NA times one's bound.
   o += "var 0..NA*MAXCOST: cost = sum(a in 1..NA)(CS[a,H]);\n";
   o += "var 0..T: makespan = e[H];  % padding events keep e[g]'s time\n";
-  if (c.opts.redundant && !c.opts.idle_events)
+  if (c.opts.redundant && !c.opts.idle_events && !c.opts.history)
     o += "constraint cost >= MINCOST * g;  % redundant: every event carries a transition\n";
+  if (c.opts.redundant && !c.opts.idle_events && c.opts.history)
+    o += "constraint cost - sum(a in 1..NA)(CS[a,P]) >= MINCOST * (g - P);  % redundant\n";
   std::tie(enc.objective_cost_factor, enc.objective_makespan_factor) =
       ObjectiveFactors(c.opts.objective, enc.time_bound);
   std::string obj = c.opts.objective == Objective::kCost       ? "cost"
@@ -67,6 +69,10 @@ void EmitObjectiveAndSearch(const Context& c, Encoding& enc) {
     o += "constraint objective >= " + std::to_string(*c.opts.at_least) + ";  % redundant: a proven bound\n";
   if (c.opts.better_than) o += "constraint objective < " + std::to_string(*c.opts.better_than) + ";\n";
   std::string search = c.opts.search == "default" ? "" : TimeOrderSearch(c);
+  if (c.opts.minimize_changes) {
+    o += MinChangeSolve(c);
+    return;
+  }
   o += "solve " + search + " minimize objective;\n";
 }
 

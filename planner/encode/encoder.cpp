@@ -123,6 +123,7 @@ Encoding Encode(const Domain& d, const StatePlan& sp, const ProblemInfo& info,
   encode::Context c{d, sp, info, opts, enc.model, H};
   encode::EmitHeader(c);
   encode::EmitAutomata(c);
+  if (opts.history) encode::EmitHistory(c);
   encode::EmitStatePlan(c);
   encode::EmitObjectiveAndSearch(c, enc);
 
@@ -189,6 +190,7 @@ Encoding Encode(const Domain& d, const StatePlan& sp, const ProblemInfo& info,
           {"MINCOST", info.min_cost}, {"INIT", init}, {"NLOC", nloc}, {"NCMD", ncmd},
           {"LO", lo}, {"HI", hi}, {"COST", cost}, {"CMD", cmd}, {"FROM", from}, {"TRS", trs},
           {"TAB", tab}};
+  if (opts.history) encode::AddHistoryData(c, data);
   return enc;
 }
 

@@ -18,6 +18,7 @@
 #include "planner/model/domain.h"
 #include "planner/model/json_io.h"
 #include "planner/model/state_plan.h"
+#include "planner/model/trajectory.h"
 
 namespace ctb {
 
@@ -33,9 +34,12 @@ struct ProblemInfo {
   long max_lo = 0;                      // ticks
   long bound_sum = 0;                   // sum of episode and temporal lower bounds, ticks
   long min_cost = 0;                    // smallest transition cost (0 when there are none)
+  long time_offset = 0;                 // replanning: `now` (ticks); the future starts there
 
   // Latest event time any plan with H events needs (see docs/encoding.md for the argument).
-  long TimeBound(int horizon) const { return bound_sum + static_cast<long>(horizon) * max_lo; }
+  long TimeBound(int horizon) const {
+    return time_offset + bound_sum + static_cast<long>(horizon) * max_lo;
+  }
 };
 
 ProblemInfo Analyze(const Domain& d, const StatePlan& sp);
@@ -56,6 +60,16 @@ struct EncodeOptions {
   // Relaxed runs: events before g may carry no transition (a part's events that another part
   // makes). Used only to prove lower bounds for the split (docs/encoding.md).
   bool idle_events = false;
+  // Replanning (planner/replan): the run's first events are this fixed history (not owned): its
+  // events, locations, entry times and transitions are fixed, no model rule applies to them,
+  // g >= p and every later event before g is at or after history->now (encode_history.cpp).
+  const History* history = nullptr;
+  // Replanning with keep "min_change": plans whose objective is at most objective_at_most (model
+  // units), minimising the changes against `baseline` (global transition id, time in ticks: the
+  // previous plan's transitions at or after now): added + dropped + moved transitions.
+  bool minimize_changes = false;
+  long objective_at_most = 0;
+  std::vector<std::pair<int, long>> baseline;
 };
 
 // One model as data rather than text: what Encode() prints, for an engine that builds its own

@@ -45,15 +45,32 @@ Json TrajectoryToJson(const Trajectory& t, const Domain& d, const StatePlan& sp,
   }
   out["timelines"] = timelines;
   Json transitions = Json::array();
+  const int p = t.history ? t.history->events() : 0;
+  std::size_t next_jump = 0;
+  auto jumps_before = [&](int event) {
+    if (!t.history) return;
+    const auto& jumps = t.history->jumps;
+    for (; next_jump < jumps.size() && jumps[next_jump].event < event; ++next_jump) {
+      const ObservedJump& j = jumps[next_jump];
+      const Automaton& a = d.automata[j.automaton];
+      transitions.push_back({{"time", Time(t.events[j.event], tps)}, {"event", j.event},
+                             {"automaton", a.name}, {"from", a.locations[j.from]},
+                             {"to", a.locations[j.to]}, {"command", nullptr},
+                             {"observed", true}});
+    }
+  };
   for (const auto& f : t.fired) {
+    jumps_before(f.event + 1);
     const Automaton& a = d.automata[f.automaton];
     const Transition& tr = a.transitions[f.transition];
     Json j = {{"time", Time(t.events[f.event], tps)}, {"event", f.event},
               {"automaton", a.name}, {"from", a.locations[tr.from]}, {"to", a.locations[tr.to]}};
     int cmd = t.commands[f.automaton][f.event - 1];
     j["command"] = tr.commanded && cmd > 0 ? Json(a.commands[cmd - 1]) : Json();
+    if (f.event <= p) j["executed"] = true;
     transitions.push_back(j);
   }
+  jumps_before(g + 1);
   out["transitions"] = transitions;
   Json eps = Json::object(), tcs = Json::object();
   for (std::size_t p = 0; p < sp.episodes.size(); ++p)

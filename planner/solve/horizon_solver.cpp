@@ -23,8 +23,13 @@ class Solver {
   Solver(const Domain& d, const StatePlan& sp, const SolveOptions& o,
          const std::optional<Plan>& incumbent = std::nullopt)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
-        objective_(o.objective.value_or(sp.objective)), bounds_(LowerBounds(d, sp)),
-        t0_(Clock::now()), best_(incumbent) {
+        objective_(o.objective.value_or(sp.objective)),
+        bounds_(o.bounds ? *o.bounds : LowerBounds(d, sp)), t0_(Clock::now()), best_(incumbent) {
+    if (o.history) {  // replanning: the future starts at `now`; the history's cost is spent
+      info_.time_offset = o.history->now;
+      for (const auto& f : o.history->fired)
+        history_cost_ += d.automata[f.automaton].transitions[f.transition].cost;
+    }
     if (best_) {
       horizon_ = best_->traj.goal_event;
       found_by_ = "heuristic";
@@ -55,7 +60,7 @@ class Solver {
       return Finish(best_ ? "feasible" : "unknown");
     }
     // Grow the horizon until a plan (better than the incumbent, if any) exists.
-    int h = LowerBound();
+    int h = std::max(LowerBound(), std::min(o_.first_horizon, o_.max_horizon));
     Outcome r = Outcome::kInfeasible;
     while (h <= o_.max_horizon) {
       r = Attempt(h, best_);
@@ -114,7 +119,8 @@ class Solver {
   int EventsForBetter(const Plan& than) const {
     if (objective_ == Objective::kMakespan || info_.min_cost <= 0) return o_.max_horizon;
     long budget = objective_ == Objective::kCost ? than.cost - 1 : than.cost;
-    long events = budget / info_.min_cost;
+    long events = (budget - history_cost_) / info_.min_cost;
+    if (o_.history) events += o_.history->events();
     if (o_.idle_events) events += 2 * static_cast<long>(sp_.episodes.size() + sp_.temporals.size());
     return static_cast<int>(std::min<long>(o_.max_horizon, events));
   }
@@ -142,11 +148,11 @@ class Solver {
   // g_first, tc_first, z3.
   std::vector<Member> Members() const {
     SolverBackend* gecode = &Backend();
-    if (o_.search == "z3") return {{"z3", &Z3EngineBackend()}};
-    if (o_.search != "portfolio") return {{o_.search, gecode}};
+    if (o_.search == "z3" && !o_.history) return {{"z3", &Z3EngineBackend()}};
+    if (o_.search != "portfolio" && o_.search != "z3") return {{o_.search, gecode}};
     std::vector<Member> all = {
         {"g_first", gecode}, {"tc_first", gecode}, {"z3", &Z3EngineBackend()}};
-    all.resize(std::clamp(o_.portfolio, 1, 3));
+    all.resize(std::clamp(o_.portfolio, 1, o_.history ? 2 : 3));  // z3 has no history
     return all;
   }
 
@@ -173,6 +179,7 @@ class Solver {
       eo.better_than = BetterThan(h, better);
       eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;
+      eo.history = o_.history.get();
       if (i == 0 || !z3) {  // z3 builds its own model; the text is kept for failure reports
         Encoding enc = Encode(d_, sp_, info_, eo);
         if (i == 0) {
@@ -284,6 +291,7 @@ class Solver {
         error_ = Error{ErrorCode::kInternal, "cannot read the solver's answer: " + why, {}};
         return Outcome::kUnknown;
       }
+      traj->history = o_.history;
       auto problems = VerifyTrajectory(*traj, d_, sp_, info_.ticks_per_second, o_.idle_events);
       if (!problems.empty()) {
         std::string where = SaveFailedModel();
@@ -383,6 +391,7 @@ class Solver {
   Clock::time_point t0_;
   std::optional<Plan> best_;
   int horizon_ = 0;
+  long history_cost_ = 0;
   std::optional<Error> error_;
   std::string last_model_;
   Json last_data_;

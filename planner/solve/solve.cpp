@@ -23,7 +23,8 @@ namespace {
 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
-                const std::string& solver_name) {
+                const std::string& solver_name,
+                const std::optional<ObjectiveBounds>& bounds = std::nullopt) {
   const long tps = std::lround(1.0 / d.time_resolution);
   Json out;
   out["status"] = c.status;
@@ -51,7 +52,7 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
   out["max_horizon"] = max_horizon;
   if (c.status == "feasible") {
     // How far from optimal the plan may be: a bound every plan obeys.
-    out["bound"] = BoundJson(LowerBounds(d, sp), objective, tps);
+    out["bound"] = BoundJson(bounds ? *bounds : LowerBounds(d, sp), objective, tps);
   }
   out["verified"] = c.best.has_value();
   // Which engine found the plan and what proved the status (null: nothing / not proven).
@@ -156,7 +157,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   const std::string solver = o.search == "z3" ? Z3EngineBackend().Name()
                                               : (o.backend ? *o.backend : DefaultBackend()).Name();
   Json stats = Json::object();
-  if (o.static_analysis) {
+  if (o.static_analysis && !o.history) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates
     // the runs, so a conflict holds whatever the horizon.
     if (auto conflict = FindStaticConflict(d, sp)) {
@@ -173,11 +174,12 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   // A problem that splits is solved part by part, each small and fast: the engine's plan of the
   // whole would not help them, so it runs on problems solved as one model only.
   std::vector<SubProblem> parts;
-  if (o.decompose) parts = SplitProblem(d, sp);
+  if (o.decompose && !o.history) parts = SplitProblem(d, sp);
   long found_ms = -1;
   std::optional<solve::Plan> incumbent;
   bool meets_bound = false;
-  if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
+  // Replanning (o.history) fixes a past the engine does not model: the exact engines alone.
+  if (!o.idle_events && !o.history && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
     const ObjectiveBounds bounds = LowerBounds(d, sp);
     incumbent = solve::FirstPlanIncumbent(d, sp, o, objective, max_h, bounds, t0, stats, found_ms);
     meets_bound = incumbent &&
@@ -211,7 +213,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   if (c.error) return *c.error;
   if (c.first_solution_ms >= 0) c.first_solution_ms += offset;
   if (found_ms >= 0) c.first_solution_ms = found_ms;
-  return WithScope(AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver));
+  return WithScope(AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds));
 }
 
 }  // namespace ctb

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <functional>
 #include <optional>
 #include <string>
@@ -15,6 +16,8 @@
 #include "planner/model/domain.h"
 #include "planner/model/error.h"
 #include "planner/model/state_plan.h"
+#include "planner/model/trajectory.h"
+#include "planner/solve/bounds.h"
 
 namespace ctb {
 
@@ -56,6 +59,14 @@ struct SolveOptions {
   // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms", "bound", "found_by"}. Not
   // called for the parts of a decomposed problem (their objectives are not the whole plan's).
   std::function<void(const Json& progress)> on_progress;
+  // Replanning (planner/replan): the run begins with this fixed history (the encoder's and the
+  // verifier's `history`), and `bounds`, valid given it, replace those computed from the initial
+  // state. Gecode only (the z3 engine has no history); no static analysis or split applies.
+  std::shared_ptr<const History> history;
+  std::optional<ObjectiveBounds> bounds;
+  // Where horizon growth starts when larger than the event bound (replanning: the previous
+  // plan's number of events). Sound at any value: a model holds every smaller plan.
+  int first_horizon = 0;
 };
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.

@@ -48,7 +48,35 @@ class Replay {
       Fail("episode or temporal constraint events missing");
       return false;
     }
-    return true;
+    return HistoryShape();
+  }
+
+  // A fixed history (replanning): stages 0..p are as reported; the run must reproduce them.
+  bool HistoryShape() {
+    if (!t_.history) return true;
+    const History& h = *t_.history;
+    const int p = h.events();
+    const std::size_t na = d_.automata.size();
+    if (p < 0 || p > g_ || h.locations.size() != na || h.entry.size() != na) {
+      Fail("the history does not fit the run (" + std::to_string(p) + " history events, goal at event " +
+           std::to_string(g_) + ")");
+      return false;
+    }
+    for (int k = 0; k <= p; ++k) {
+      if (t_.events[k] != h.times[k]) Fail("event " + std::to_string(k) + " is not at its history time");
+      for (std::size_t a = 0; a < na; ++a)
+        if (t_.locations[a][k] != h.locations[a][k])
+          Fail("'" + Name(a) + "' is not where the history has it on stage " + std::to_string(k));
+    }
+    std::vector<FiredTransition> mine;
+    for (const auto& f : t_.fired)
+      if (f.event <= p) mine.push_back(f);
+    auto same = [](const FiredTransition& x, const FiredTransition& y) {
+      return x.event == y.event && x.automaton == y.automaton && x.transition == y.transition;
+    };
+    if (mine.size() != h.fired.size() || !std::equal(mine.begin(), mine.end(), h.fired.begin(), same))
+      Fail("the run's transitions up to event " + std::to_string(p) + " are not the history's");
+    return errors_.empty();
   }
 
   // Value of a domain variable on a stage.
@@ -123,7 +151,15 @@ class Replay {
       fired[f.event][f.automaton] = f.transition;
     }
     std::vector<long> entry(na, 0);
-    for (int k = 1; k <= g_; ++k) {
+    const int p = t_.history ? t_.history->events() : 0;
+    if (t_.history) {
+      for (std::size_t a = 0; a < na; ++a) entry[a] = t_.history->entry[a][p];
+      for (int k = p + 1; k <= g_; ++k)
+        if (t_.events[k] < t_.history->now)
+          Fail("event " + std::to_string(k) + " is in the future but earlier than now");
+      CheckKeepNext(fired, p);
+    }
+    for (int k = p + 1; k <= g_; ++k) {
       bool any = false;
       const long now = t_.events[k], before = t_.events[k - 1];
       for (std::size_t a = 0; a < na; ++a) {
@@ -168,6 +204,16 @@ class Replay {
       }
       if (!any && !allow_idle_)
         Fail("event " + std::to_string(k) + " carries no transition (runs must be concise)");
+    }
+  }
+
+  // keep "started": the automaton's first transition after the history is the one named.
+  void CheckKeepNext(const std::vector<std::vector<int>>& fired, int p) {
+    for (auto [a, ti] : t_.history->keep_next) {
+      int first = -1;
+      for (int k = p + 1; k <= g_ && first < 0; ++k) first = fired[k][a];
+      if (first != ti)
+        Fail("'" + Name(a) + "' does not go on with the transition it had started (keep: started)");
     }
   }
 

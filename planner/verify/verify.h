@@ -13,6 +13,9 @@ namespace ctb {
 // violation found; empty means the trajectory is a valid plan for the state plan.
 // allow_idle_events: events that carry no transition are accepted (the relaxed runs the split
 // uses for its lower bounds, docs/encoding.md); never for an answer.
+// With t.history (replanning): stages 0..p must be the history's, whose events are taken as
+// reported (no model rule is checked on them); later events must be at or after history->now and
+// obey every rule from the history's entry times; the state plan is judged on the whole run.
 std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
                                           const StatePlan& sp, long ticks_per_second,
                                           bool allow_idle_events = false);

@@ -117,6 +117,33 @@ TEST(Service, SolveAnswersAVerifiedTrajectory) {
   EXPECT_EQ(t["goal_reached_at"], 2430);
 }
 
+// Issue 21: POST /replan over the application core. Robot 1 stands at door 1 at t = 1 and cannot
+// open it: robot 2 comes to open it, person 1 is reached at 12 (tests/planner/replan_test.cpp);
+// a history that does not read is a 400 at its pointer.
+TEST(Service, ReplanFromWhatHappened) {
+  Server s;
+  Json b = SolveBody("search_rescue/test2.json", {{"objective", "makespan"}});
+  b["now"] = 1;
+  b["executed"] = Json::parse(R"([
+      {"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor1"},
+      {"time": 1, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}])");
+  b["blocked"] = Json::parse(R"([{"automaton": "robot1", "from": "atDoor1", "to": "door1Opening"}])");
+  auto r = s.Client().Post("/replan", b.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  Json t = Json::parse(r->body);
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["goal_reached_at"], 12);
+  EXPECT_EQ(t["verified"], true);
+  EXPECT_EQ(t["now"], 1);
+  EXPECT_EQ(t["transitions"][0]["executed"], true);
+  b["executed"][1]["to"] = "insideRoom1";
+  r = s.Client().Post("/replan", b.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(ErrorOf(r).value("path", ""), "/executed/1/to") << r->body;
+}
+
 TEST(Service, InfeasibleIsA200) {
   Server s;
   Json b = {{"domain", "presentation"}, {"state_plan", Json::parse(ReadFile(ctb::testing::SourceDir() + "/tests/data/deadline_infeasible.json"))}};

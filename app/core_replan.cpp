@@ -1,0 +1,93 @@
+// Core::Replan (contract section 11): the planner's replanning (planner/replan) behind the job
+// gate; in a session, the session's current state plan and plan, and the replan as a turn.
+#include "app/core_impl.h"
+#include "app/ids.h"
+#include "app/session_doc.h"
+#include "planner/explain/summary.h"
+#include "planner/replan/replan.h"
+
+namespace ctb::app {
+
+namespace {
+
+Error StoreFailed() { return {ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
+
+// What the turn records about a replan: the request's own fields (not the plan it replans).
+Json ReplanRecord(const Json& request, const std::string& keep) {
+  Json r = {{"keep", keep}};
+  for (const char* k : {"now", "executed", "observed", "blocked"})
+    if (request.contains(k)) r[k] = request[k];
+  return r;
+}
+
+}  // namespace
+
+std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallContext& ctx) {
+  std::optional<StoredSession> stored;
+  DomainRef ref = call.domain;
+  Json state_plan = call.state_plan;
+  Json request = call.request.is_object() ? call.request : Json::object();
+  if (call.session) {
+    if (ref.name || ref.action_model || !state_plan.is_null())
+      return Bad("a session replans its own domain and state plan", "/session");
+    auto got = impl_->sessions->Get(*call.session);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    stored = std::get<std::optional<StoredSession>>(got);
+    if (!stored)
+      return Error{ErrorCode::kNotFound, "unknown or expired session '" + Echo(*call.session) + "'",
+                   {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};
+    Session s = SessionFromDoc(stored->doc);
+    if (s.state_plan.is_null() || !stored->doc.contains("trajectory"))
+      return Bad("the session has no plan to replan yet", "/session");
+    ref.name = s.domain;
+    state_plan = s.state_plan;
+    if (!request.contains("trajectory")) request["trajectory"] = stored->doc["trajectory"];
+  }
+  auto dom = impl_->ResolveDomain(ref);
+  if (auto* e = std::get_if<Error>(&dom)) return *e;
+  const Domain& domain = *std::get<std::shared_ptr<const Domain>>(dom);
+  if (state_plan.is_null()) return Bad("missing \"state_plan\"", "/state_plan");
+  auto sp = impl_->CheckPlan(state_plan, domain, "/state_plan");
+  if (auto* e = std::get_if<Error>(&sp)) return *e;
+  auto opts = impl_->MakeOptions(call.options);
+  if (auto* e = std::get_if<Error>(&opts)) return *e;
+  ReplanRequest rr;
+  if (auto e = ReadReplanRequest(request, rr, nullptr)) return *e;
+  ReplanOptions ro;
+  auto keep = ParseKeep(call.keep);
+  if (!keep) return Bad("keep must be none, started or min_change", "/options/keep");
+  ro.keep = *keep;
+  const StatePlan& plan = std::get<StatePlan>(sp);
+  auto answered = impl_->RunGated(std::get<SolveOptions>(opts), ctx,
+                                  [&](const SolveOptions& so) -> std::variant<Json, Error> {
+                                    ReplanOptions o = ro;
+                                    o.solve = so;
+                                    auto r = ::ctb::Replan(domain, plan, rr, o);
+                                    if (auto* doc = std::get_if<Json>(&r))
+                                      (*doc)["state_plan_summary"] = SummarizeStatePlan(domain, plan);
+                                    return r;
+                                  });
+  if (auto* e = std::get_if<Error>(&answered)) return *e;
+  Answer answer = std::move(std::get<Answer>(answered));
+  if (!stored) return answer;
+  // The replan is a turn of the session; a plan it found becomes the session's current one.
+  Json turn = TurnRecord("(replan)", "", state_plan, answer.document);
+  turn["replan"] = ReplanRecord(call.request, call.keep);
+  UpdateSessionDoc(stored->doc, SessionFromDoc(stored->doc).conversation, state_plan, turn);
+  switch (impl_->sessions->Update(*stored)) {
+    case StoreResult::kOk: break;
+    case StoreResult::kConflict:
+      return Error{ErrorCode::kConflict,
+                   "another turn of this session was stored while this replan ran; reload the "
+                   "session and replan again",
+                   {{"/session", std::nullopt, "changed meanwhile"}}};
+    case StoreResult::kNotFound:
+      return Error{ErrorCode::kNotFound, "the session expired or was deleted during this replan",
+                   {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};
+    default: return StoreFailed();
+  }
+  answer.document["session"] = stored->id;
+  return answer;
+}
+
+}  // namespace ctb::app

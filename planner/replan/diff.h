@@ -1,0 +1,18 @@
+// Internal to planner/replan: the future's transitions against the previous plan's.
+#pragma once
+
+#include "planner/model/json_io.h"
+#include "planner/replan/situation.h"
+
+namespace ctb::replan {
+
+// {"kept", "moved", "added", "dropped"}: items {"automaton", "from", "to", "command"?,
+// "time_before"?, "time_after"?} keyed by (automaton, from, to). `answer` is a trajectory JSON;
+// its transitions not marked executed or observed are the future. Same key at the same time:
+// kept; the remaining ones of one key paired in time order: moved; the rest: added or dropped.
+Json DiffAgainstPrevious(const Json& answer, const Domain& d, const Situation& s);
+
+// moved + added + dropped.
+long Changes(const Json& diff);
+
+}  // namespace ctb::replan

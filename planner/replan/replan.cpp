@@ -1,0 +1,201 @@
+#include "planner/replan/replan.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "planner/encode/encoder.h"
+#include "planner/encode/extract.h"
+#include "planner/replan/diff.h"
+#include "planner/replan/precheck.h"
+#include "planner/replan/situation.h"
+#include "planner/solve/backend.h"
+#include "planner/verify/verify.h"
+
+namespace ctb {
+
+using replan::Situation;
+
+const char* KeepName(Keep k) {
+  switch (k) {
+    case Keep::kNone: return "none";
+    case Keep::kStarted: return "started";
+    case Keep::kMinChange: return "min_change";
+  }
+  return "none";
+}
+
+std::optional<Keep> ParseKeep(const std::string& s) {
+  if (s == "none") return Keep::kNone;
+  if (s == "started") return Keep::kStarted;
+  if (s == "min_change") return Keep::kMinChange;
+  return std::nullopt;
+}
+
+std::optional<Error> ReadReplanRequest(const Json& body, ReplanRequest& out, Keep* keep) {
+  Diagnostics diags;
+  if (!body.is_object()) {
+    diags.Error("", "the request must be a JSON object");
+    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid replanning request", diags);
+  }
+  auto field = [&](const char* k) { return body.contains(k) ? body[k] : Json(); };
+  out.now = field("now");
+  if (out.now.is_null()) diags.Error("/now", "now (seconds since the plan started) is required");
+  out.executed = field("executed");
+  out.observed = field("observed");
+  out.blocked = field("blocked");
+  out.previous = field("trajectory");
+  out.previous_pointer = "/trajectory";
+  if (keep && body.contains("options") && body["options"].is_object() &&
+      body["options"].contains("keep")) {
+    const Json& k = body["options"]["keep"];
+    auto parsed = k.is_string() ? ParseKeep(k.get<std::string>()) : std::nullopt;
+    if (!parsed)
+      diags.Error("/options/keep", "keep must be \"none\", \"started\" or \"min_change\"");
+    else
+      *keep = *parsed;
+  }
+  if (diags.ok()) return std::nullopt;
+  return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid replanning request", diags);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+long MsSince(Clock::time_point t0) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
+}
+
+Json Seconds(long ticks, long tps) {
+  if (tps == 1) return ticks;
+  return static_cast<double>(ticks) / static_cast<double>(tps);
+}
+
+// An infeasible answer decided before any solve.
+Json Infeasible(Objective objective, const Json& conflicts, const Situation& s, long ms,
+                const std::string& why, int max_horizon) {
+  return {{"status", "infeasible"},
+          {"objective", {{"kind", ObjectiveName(objective)}, {"value", nullptr}}},
+          {"horizon", s.history.events()},
+          {"max_horizon", max_horizon},
+          {"verified", false},
+          {"explanation",
+           {{"conflicts", conflicts}, {"relaxations", Json::array()}, {"status", "minimal"}}},
+          {"stats",
+           {{"solver", why}, {"compile_ms", 0}, {"solve_ms", ms}, {"first_solution_ms", -1},
+            {"variables", 0}, {"solver_runs", 0}, {"history_events", s.history.events()}}}};
+}
+
+// keep "min_change": a second solve at the optimum's horizon, among plans at most as good as it,
+// for the fewest changes. Replaces the answer's plan when it finds one with fewer changes.
+void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, const Situation& s,
+                     const SolveOptions& so, Objective objective, long time_left_ms, Json& ans) {
+  if (!ans.contains("transitions") || !ans["horizon"].is_number_integer() || time_left_ms <= 0)
+    return;
+  const int H = ans["horizon"].get<int>();
+  ProblemInfo info = Analyze(md, sp);
+  info.time_offset = s.history.now;
+  auto [cf, mf] = ObjectiveFactors(objective, info.TimeBound(H));
+  const long makespan = std::lround(ans["goal_reached_at"].get<double>() * s.tps);
+  EncodeOptions eo;
+  eo.horizon = H;
+  eo.objective = objective;
+  eo.history = so.history.get();
+  eo.minimize_changes = true;
+  eo.objective_at_most = ans["cost"].get<long>() * cf + makespan * mf;
+  for (const auto& p : s.baseline)
+    eo.baseline.emplace_back(info.transitions_of[p.automaton][p.transition], p.time);
+  Encoding enc = Encode(md, sp, info, eo);
+  RunRequest req;
+  req.model = std::move(enc.model);
+  req.data = std::move(enc.data);
+  req.time_limit_ms = time_left_ms;
+  req.minizinc = so.minizinc;
+  req.cancel = so.cancel;
+  RunResult r = DefaultBackend().Run(req);
+  ans["stats"]["min_change_status"] = RunStatusName(r.status);
+  if (!r.best) return;
+  std::string why;
+  auto traj = ExtractTrajectory(*r.best, md, sp, H, why);
+  if (!traj) return;
+  traj->history = so.history;
+  if (!VerifyTrajectory(*traj, md, sp, s.tps).empty()) {
+    ans["stats"]["min_change_status"] = "unverified";  // never returned
+    return;
+  }
+  Json j = TrajectoryToJson(*traj, md, sp, s.tps);
+  const Json before = replan::DiffAgainstPrevious(ans, d, s);
+  const Json after = replan::DiffAgainstPrevious(j, d, s);
+  if (replan::Changes(after) >= replan::Changes(before)) return;
+  for (auto& [k, v] : j.items()) ans[k] = v;
+  const long cost = TrajectoryCost(*traj, md), ms = traj->events.back();
+  ans["cost"] = cost;
+  Json value = objective == Objective::kCost       ? Json(cost)
+               : objective == Objective::kMakespan ? Seconds(ms, s.tps)
+                                                   : Json{{"cost", cost}, {"makespan", Seconds(ms, s.tps)}};
+  ans["objective"]["value"] = value;
+}
+
+}  // namespace
+
+std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const ReplanRequest& req,
+                                 const ReplanOptions& o) {
+  const auto t0 = Clock::now();
+  if (o.solve.horizon) {
+    Diagnostics diags;
+    diags.Error("/options/horizon", "a replan grows its horizon; use max_horizon (the most events "
+                                    "of the future)");
+    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid replanning options", diags);
+  }
+  if (auto e = ValidateSolveOptions(o.solve)) return *e;
+  Situation s;
+  if (auto e = replan::BuildSituation(d, sp, req, o.keep, s)) return *e;
+  const int p = s.history.events();
+  const Objective objective = o.solve.objective.value_or(sp.objective);
+  if (p + 1 > kMaxHorizonLimit) {
+    Diagnostics diags;
+    diags.Error("/executed", "the history has " + std::to_string(p) + " events; at most " +
+                                 std::to_string(kMaxHorizonLimit - 1) + " are supported");
+    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "history too long", diags);
+  }
+  const int max_h = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
+  if (o.precheck) {
+    std::vector<Json> broken = replan::BrokenByHistory(sp, s);
+    if (!broken.empty())
+      return Infeasible(objective, broken, s, MsSince(t0), "history check", max_h);
+    if (auto cut = replan::GoalCutOff(d, sp, s))
+      return Infeasible(objective, Json::array({*cut}), s, MsSince(t0), "static analysis", max_h);
+  }
+  SolveOptions so = o.solve;
+  so.history = std::make_shared<const History>(s.history);
+  so.bounds = replan::HistoryBounds(sp, s);
+  so.static_analysis = false;
+  so.decompose = false;
+  so.max_horizon = max_h;
+  // The previous plan's future usually fits again: start the horizon there (a larger model holds
+  // every smaller plan, so this loses nothing).
+  so.first_horizon = p + s.previous_future_events;
+  auto solved = Solve(s.model_domain, sp, so);
+  if (auto* e = std::get_if<Error>(&solved)) return *e;
+  Json ans = std::get<Json>(std::move(solved));
+  if (ans["status"] == "infeasible" && !ans.contains("explanation")) {
+    std::string text = "no future from the state at t = " + Seconds(s.history.now, s.tps).dump() +
+                       " s satisfies the state plan with at most " +
+                       std::to_string(o.solve.max_horizon) + " more events";
+    if (!s.history.keep_next.empty()) text += " (keep: started holds every started transition)";
+    Json conflicts = Json::array({{{"constraints", Json::array()}, {"text", text}}});
+    if (auto cut = replan::GoalCutOff(d, sp, s)) conflicts = Json::array({*cut});
+    ans["explanation"] = {{"conflicts", conflicts}, {"relaxations", Json::array()},
+                          {"status", conflicts[0]["constraints"].empty() ? "unknown" : "minimal"}};
+  }
+  if (o.keep == Keep::kMinChange && s.have_previous && ans.contains("transitions"))
+    MinimiseChanges(s.model_domain, d, sp, s, so, objective, o.solve.time_limit_ms - MsSince(t0), ans);
+  ans["now"] = Seconds(s.history.now, s.tps);
+  ans["keep"] = KeepName(o.keep);
+  ans["stats"]["history_events"] = p;
+  if (ans.contains("transitions")) ans["diff"] = replan::DiffAgainstPrevious(ans, d, s);
+  ans["stats"]["solve_ms"] = MsSince(t0);
+  return ans;
+}
+
+}  // namespace ctb
