@@ -140,9 +140,14 @@ class PlannerService final : public pb::Planner::Service {
       return Status::OK;
     });
   }
-  Status Replan(ServerContext* c, const pb::ReplanRequest*, pb::PlanResult*) override {
+  Status Replan(ServerContext* c, const pb::ReplanRequest* q, pb::PlanResult* r) override {
     return Run(c, "Replan", [&]() -> Status {
-      return Status(grpc::StatusCode::UNIMPLEMENTED, "replanning is not in this build");
+      auto s = core_.Replan(ReplanCallOf(*q), Context(c, nullptr));
+      if (auto* e = std::get_if<Error>(&s)) return StatusOf(*e);
+      *r = ResultOf(std::get<app::Answer>(s));
+      const Json& doc = std::get<app::Answer>(s).document;
+      if (doc.contains("session") && doc["session"].is_string()) r->set_session(doc["session"]);
+      return Status::OK;
     });
   }
 
@@ -166,6 +171,43 @@ class PlannerService final : public pb::Planner::Service {
     if (q.model_case() == pb::SolveRequest::kActionModel) call.domain.action_model = ToJson(q.action_model());
     if (q.has_state_plan()) call.state_plan = ToJson(q.state_plan());
     if (q.has_options()) call.options = OptionsOf(q.options());
+    return call;
+  }
+
+  // The request as the JSON body of POST /replan: proto3's JSON mapping leaves out zero values,
+  // so `now` and each observation's `since` are written explicitly, and a trajectory's timelines
+  // lose their wrapper.
+  app::ReplanCall ReplanCallOf(const pb::ReplanRequest& q) {
+    app::ReplanCall call;
+    if (q.has_session()) call.session = q.session();
+    if (q.has_domain()) call.domain.name = q.domain();
+    if (q.has_action_model()) call.domain.action_model = ToJson(q.action_model());
+    if (q.has_state_plan()) call.state_plan = ToJson(q.state_plan());
+    Json body = ToJson(q);
+    Json request = Json::object();
+    request["now"] = q.now();
+    for (const char* k : {"executed", "blocked"})
+      if (body.contains(k)) request[k] = body[k];
+    if (q.observed_size() > 0) {
+      request["observed"] = Json::object();
+      for (const auto& [name, ob] : q.observed())
+        request["observed"][name] = {{"location", ob.location()}, {"since", ob.since()}};
+    }
+    if (q.has_trajectory()) {
+      Json t = ToJson(q.trajectory());
+      if (t.contains("timelines") && t["timelines"].is_object())
+        for (auto& [name, tl] : t["timelines"].items()) tl = tl.value("segments", Json::array());
+      request["trajectory"] = t;
+    }
+    call.request = request;
+    if (q.has_options()) {
+      const auto& o = q.options();
+      if (o.has_objective()) call.options.objective = o.objective();
+      if (o.has_time_limit_ms()) call.options.time_limit_ms = o.time_limit_ms();
+      if (o.has_horizon()) call.options.horizon = o.horizon();
+      if (o.has_max_horizon()) call.options.max_horizon = o.max_horizon();
+      if (o.has_keep()) call.keep = o.keep();
+    }
     return call;
   }
 

@@ -18,6 +18,8 @@ ELSEWHERE = {
     ("SolveRequest", "stream"): "the SolveAnytime method",
     ("PlanRequest", "stream"): "the PlanAnytime method",
     ("SolveRequest", "action_model"): "the oneof model",
+    ("Trajectory", "session"): "PlanResult.session",
+    ("Trajectory", "diff"): "PlanResult.diff",
 }
 
 
