@@ -41,6 +41,11 @@ Runner AddPlan(CLI::App& app);
 // one sent with CTB_LLM_RESPONSE_FORMAT=json_schema); 2 for a bad domain.
 Runner AddSchema(CLI::App& app);
 
+// `ctburton domain check|expand|draw FILE [--set N=8]` and `ctburton domain draft "words"`:
+// check prints "valid: ..." or one located error a line (exit 1); expand prints the document with
+// its templates expanded; draw prints SVG; draft prints {action_model, restatement, questions}.
+Runner AddDomain(CLI::App& app);
+
 // `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
 Runner AddServe(CLI::App& app);
 

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddServe(app));
   runners.push_back(ctb::cli::AddPlan(app));
   runners.push_back(ctb::cli::AddSchema(app));
+  runners.push_back(ctb::cli::AddDomain(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
