@@ -120,8 +120,8 @@ TEST(TemplateDifferential, SearchRescueTemplateSolvesLikeTheGeneratedCopies) {
     int n;
     Objective objective;
   };
-  for (const Case& c : {Case{2, Objective::kMakespan}, Case{2, Objective::kCost},
-                        Case{3, Objective::kMakespan}}) {
+  // Small N only (a few seconds each); larger N are compared structurally above.
+  for (const Case& c : {Case{2, Objective::kMakespan}, Case{3, Objective::kCost}}) {
     SCOPED_TRACE("N = " + std::to_string(c.n));
     auto t = FromTemplate(c.n);
     auto g = Generated(c.n);
@@ -135,7 +135,9 @@ TEST(TemplateDifferential, SearchRescueTemplateSolvesLikeTheGeneratedCopies) {
     EXPECT_EQ(a["goal_reached_at"], b["goal_reached_at"]);
     EXPECT_EQ(a["verified"], true);
     EXPECT_EQ(b["verified"], true);
-    if (c.objective == Objective::kMakespan) EXPECT_EQ(a["objective"]["value"], 11);
+    if (c.objective == Objective::kMakespan) {
+      EXPECT_EQ(a["objective"]["value"], 11);  // the thesis' optimum (5.3.2)
+    }
   }
 }
 
