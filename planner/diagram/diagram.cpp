@@ -17,7 +17,7 @@ constexpr double kBoxHeight = 30;
 constexpr double kRowGap = 34;
 constexpr double kColumnGap = 190;  // room for edge labels between columns
 constexpr double kMargin = 20;
-constexpr double kHeader = 48;
+constexpr double kHeader = 72;  // title, commands, and room for the labels of upward bends
 
 std::string Escape(const std::string& s) {
   std::string out;
@@ -136,7 +136,15 @@ void Panel(const Domain& d, const Automaton& a, double top, const DiagramOptions
     x += w + kColumnGap;
   }
   width = std::max(x - kColumnGap + kMargin, 320.0);
-  height = kHeader + rows * (kBoxHeight + kRowGap) + kMargin;
+  const double bottom = top + kHeader + rows * (kBoxHeight + kRowGap) - kRowGap;
+  bool any_back = false, any_side = false;
+  for (const auto& t : a.transitions) {
+    any_back |= depth[t.to] < depth[t.from];
+    any_side |= depth[t.to] == depth[t.from];
+  }
+  height = kHeader + rows * (kBoxHeight + kRowGap) + kMargin + (any_back ? 50 : 0);
+  if (any_side) width += 120;
+  int back = 0, side = 0;
 
   std::string title = "automaton " + a.name;
   std::string sub = a.commands.empty() ? "no commands" : "commands:";
@@ -155,9 +163,20 @@ void Panel(const Domain& d, const Automaton& a, double top, const DiagramOptions
     const Box& g = box[t.to];
     double fx = f.x + f.w / 2, fy = f.y + kBoxHeight / 2, gx = g.x + g.w / 2, gy = g.y + kBoxHeight / 2;
     double dx = gx - fx, dy = gy - fy, len = std::max(1.0, std::hypot(dx, dy));
-    // Bend every edge a little to its left: two opposite edges then do not overlap.
-    double bend = std::min(60.0, 0.18 * len + (depth[t.to] <= depth[t.from] ? 30 : 0));
-    double cx = (fx + gx) / 2 - dy / len * bend, cy = (fy + gy) / 2 + dx / len * bend;
+    // Forward edges bend a little to their right (upwards), edges
+    // back to an earlier column (or within one) loop below the boxes, where nothing else is.
+    double cx, cy;
+    if (depth[t.to] > depth[t.from]) {
+      double bend = std::min(36.0, 0.15 * len);
+      cx = (fx + gx) / 2 + dy / len * bend;
+      cy = (fy + gy) / 2 - dx / len * bend;
+    } else if (depth[t.to] == depth[t.from]) {  // within a column: a loop to its right
+      cx = std::max(f.x + f.w, g.x + g.w) + 50 + 30 * (side++ % 2);
+      cy = (fy + gy) / 2;
+    } else {  // the curve's lowest point (halfway to the control point) lies below the boxes
+      cx = (fx + gx) / 2;
+      cy = 2 * (bottom + 16 + 16 * (back++ % 3)) - (fy + gy) / 2;
+    }
     double sx, sy, ex, ey;
     Exit(f, cx, cy, sx, sy);
     Exit(g, cx, cy, ex, ey);

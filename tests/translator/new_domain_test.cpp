@@ -50,7 +50,7 @@ LlmConfig Config(const MockLlmServer& m) {
 // Names that belong to the shipped domains, by domain.
 const std::map<std::string, std::vector<std::string>>& ShippedNames() {
   static const std::map<std::string, std::vector<std::string>> names = {
-      {"assembly", {"arm1", "blockA", "holdingA", "onFloor"}},
+      {"assembly", {"arm1", "blockA", "onB", "onFloor"}},
       {"presentation", {"compOff", "projOn", "projl", "disconnected"}},
       {"search_rescue", {"robot1", "door1", "rescuedPerson1", "outside"}},
   };
