@@ -4,10 +4,8 @@
 
 #include "client/commands.h"
 #include "client/remote.h"
-#include "planner/explain/explain.h"
+#include "client/local_core.h"
 #include "planner/model/catalog.h"
-#include "planner/solve/solve.h"
-#include "translator/pipeline.h"
 
 namespace ctb::cli {
 
@@ -36,33 +34,21 @@ int RunPlan(const PlanCliOptions& o) {
     return 0;
   }
   if (!o.session.empty()) return Fail({ErrorCode::kInvalidInput, "--session needs --server (sessions live in the server)", {}});
-  Diagnostics dd;
-  auto domain = LoadDomainByNameOrPath(o.domain, o.config_dir.empty() ? DefaultConfigDir() : o.config_dir, dd);
-  if (!domain) return Fail(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
-  auto cfg = LlmConfig::FromEnv();
-  if (auto* e = std::get_if<Error>(&cfg)) return Fail(*e);
-  auto client = MakeClient(std::get<LlmConfig>(cfg));
-  if (auto* e = std::get_if<Error>(&client)) return Fail(*e);
-  TranslateOptions to;
-  auto p = ParsePrompting(o.prompting);
-  if (!p) return Fail({ErrorCode::kInvalidInput, "--prompting must be cot or direct", {}});
-  to.prompting = *p;
-  to.max_repairs = std::get<LlmConfig>(cfg).max_repairs;
-  to.response_format = std::get<LlmConfig>(cfg).response_format;
-  auto t = Translate(*domain, o.command, *std::get<std::unique_ptr<LlmClient>>(client), to);
-  if (auto* e = std::get_if<Error>(&t)) return Fail(*e);
-  const auto& tr = std::get<TranslateResult>(t);
-  Diagnostics d;
-  auto sp = LoadStatePlan(tr.state_plan, *domain, d);
-  if (!sp) return Fail(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan", d));
-  SolveOptions so;
-  so.time_limit_ms = o.time_limit_ms;
-  if (!o.objective.empty()) so.objective = ParseObjective(o.objective);
-  auto s = Solve(*domain, *sp, so);
-  if (auto* e = std::get_if<Error>(&s)) return Fail(*e);
-  AnnotateAnswer(*domain, *sp, so, std::get<Json>(s));
-  Json out = {{"state_plan", tr.state_plan}, {"reasoning", tr.reasoning}, {"trajectory", std::get<Json>(s)}};
-  if (!tr.warnings.empty()) out["warnings"] = WarningsJson(tr.warnings);
+  auto opened = OpenLocalCore(o.config_dir, true);
+  if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);
+  auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
+  app::PlanCall call;
+  call.domain = o.domain;
+  call.command = o.command;
+  call.prompting = o.prompting;
+  call.options.time_limit_ms = o.time_limit_ms;
+  if (!o.objective.empty()) call.options.objective = o.objective;
+  auto r = core.Plan(call, {});
+  if (auto* e = std::get_if<Error>(&r)) return Fail(*e);
+  const auto& p = std::get<app::PlanAnswer>(r);
+  Json out = {{"state_plan", p.translation.state_plan}, {"reasoning", p.translation.reasoning},
+              {"trajectory", p.answer.document}};
+  if (!p.translation.warnings.empty()) out["warnings"] = p.translation.warnings;
   std::cout << out.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
   return 0;
 }
@@ -72,7 +58,7 @@ Runner AddPlan(CLI::App& app) {
   auto o = std::make_shared<PlanCliOptions>();
   CLI::App* sub = app.add_subcommand("plan", "Natural language to a verified plan (locally or via --server)");
   sub->add_option("--server", o->server, "A running ctburton server, e.g. http://127.0.0.1:8080");
-  sub->add_option("--domain", o->domain, "Domain name")->required();
+  sub->add_option("--domain", o->domain, "Domain name (shipped, or stored on the server)")->required();
   sub->add_option("command", o->command, "What the team should do")->required();
   sub->add_option("--session", o->session, "Continue a dialogue (server mode)");
   sub->add_option("--prompting", o->prompting, "cot (default) or direct");

@@ -4,7 +4,7 @@
 
 #include "client/commands.h"
 #include "client/remote.h"
-#include "planner/explain/explain.h"
+#include "client/local_core.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/solve.h"
 
@@ -71,38 +71,46 @@ int RunSolve(const SolveCliOptions& o) {
   }
   Diagnostics diags;
   auto json = ReadJsonFile(o.file, diags);
-  std::optional<StatePlan> sp;
-  if (json) sp = LoadStatePlan(*json, *domain, diags);
-  for (const auto& w : diags.warnings()) std::cerr << "warning: " << w.ToString() << "\n";
-  if (!sp) {
+  if (!json) {
     PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
     return 1;
   }
-  SolveOptions so;
-  if (!o.objective.empty()) {
-    so.objective = ParseObjective(o.objective);
-    if (!so.objective) {
-      std::cerr << "error: unknown objective '" << o.objective << "'\n";
-      return 1;
-    }
+  if (!o.objective.empty() && !ParseObjective(o.objective)) {
+    std::cerr << "error: unknown objective '" << o.objective << "'\n";
+    return 1;
   }
-  so.horizon = o.horizon;
-  so.max_horizon = o.max_horizon;
-  so.time_limit_ms = o.time_limit_ms;
-  so.threads = o.threads;
-  so.search = o.search;
-  so.portfolio = o.portfolio;
-  so.decompose = !o.no_decompose;
-  so.reuse_identical_parts = !o.no_reuse;
-  so.redundant = !o.no_redundant;
-  so.model_out = o.model_out;
-  auto result = Solve(*domain, *sp, so);
-  if (auto* e = std::get_if<Error>(&result)) {
+  auto opened = OpenLocalCore(config, false);
+  if (auto* e = std::get_if<Error>(&opened)) {
     PrintError(*e);
+    return 3;
+  }
+  auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
+  app::SolveCall call;
+  call.domain.action_model = DomainToJson(*domain);
+  call.state_plan = *json;
+  if (!o.objective.empty()) call.options.objective = o.objective;
+  call.options.time_limit_ms = o.time_limit_ms;
+  if (o.horizon) call.options.horizon = *o.horizon;
+  else call.options.max_horizon = o.max_horizon;
+  call.tune = [&o](SolveOptions& so) {
+    so.threads = o.threads;
+    so.search = o.search;
+    so.portfolio = o.portfolio;
+    so.decompose = !o.no_decompose;
+    so.reuse_identical_parts = !o.no_reuse;
+    so.redundant = !o.no_redundant;
+    so.model_out = o.model_out;
+  };
+  if (auto v = core.Validate(call); auto* ok = std::get_if<app::ValidateAnswer>(&v))
+    for (const auto& w : ok->warnings)
+      std::cerr << "warning: " << w.value("path", "").substr(std::string("/state_plan").size())
+                << ": " << w.value("message", "") << "\n";
+  auto result = core.Solve(call, {});
+  if (auto* e = std::get_if<Error>(&result)) {
+    PrintError(RelativeTo(*e, "/state_plan"));
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
-  AnnotateAnswer(*domain, *sp, so, std::get<Json>(result));  // summary; explanation if infeasible
-  std::cout << std::get<Json>(result).dump(2) << "\n";
+  std::cout << std::get<app::Answer>(result).document.dump(2) << "\n";
   return 0;
 }
 }  // namespace

@@ -34,7 +34,8 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
                  "solver_queue", "default_time_limit_ms", "max_time_limit_ms", "max_horizon_limit",
                  "max_sessions", "session_idle_s", "shutdown_grace_ms", "body_timeout_s", "keep_alive_s",
                  "max_connections", "max_connections_per_address", "solver_memory_mb", "budget",
-                 "data_dir", "session_store", "demo"});
+                 "data_dir", "session_store", "demo", "grpc_port", "grpc_host", "grpc_tls_cert",
+                 "grpc_tls_key", "max_grpc_streams_per_client", "api_keys_file"});
     auto str = [&](const char* k, std::string& out) {
       if (auto v = r.String(k, false)) out = *v;
     };
@@ -61,6 +62,17 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
     str("recordings_dir", c.recordings_dir);
     str("data_dir", c.data_dir);
     str("session_store", c.session_store);
+    str("grpc_host", c.grpc_host);
+    str("grpc_tls_cert", c.grpc_tls_cert);
+    str("grpc_tls_key", c.grpc_tls_key);
+    str("api_keys_file", c.api_keys_file);
+    if (const Json* v = r.Get("grpc_port")) {
+      if (v->is_number_integer() && v->get<long long>() >= -1 && v->get<long long>() <= 65535)
+        c.grpc_port = v->get<int>();
+      else
+        d.Error("/grpc_port", "must be -1 (off) or a port number 0..65535");
+    }
+    num("max_grpc_streams_per_client", c.max_grpc_streams_per_client);
     if (const Json* v = r.Get("demo")) {
       if (v->is_boolean()) c.demo = v->get<bool>();
       else d.Error("/demo", "must be true or false");
@@ -107,6 +119,9 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
   if (const char* h = std::getenv("CTB_HOST"); h && *h) c.host = h;
   if (const char* v = std::getenv("CTB_DATA_DIR"); v && *v) c.data_dir = v;
   if (const char* v = std::getenv("CTB_SESSION_STORE"); v && *v) c.session_store = v;
+  if (const char* v = std::getenv("CTB_API_KEYS"); v && *v) c.api_keys_file = v;
+  if (const char* v = std::getenv("CTB_ALLOW_UNAUTHENTICATED"); v && std::string(v) == "1")
+    c.allow_unauthenticated = true;
   auto llm = LlmConfig::FromEnv();
   if (auto* e = std::get_if<Error>(&llm)) return *e;
   c.llm = std::get<LlmConfig>(llm);
@@ -116,6 +131,11 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
 std::optional<Error> ServerConfig::Validate() const {
   Diagnostics d;
   if (port < 0 || port > 65535) d.Error("/port", "port must be 0..65535");
+  if (grpc_port < -1 || grpc_port > 65535) d.Error("/grpc_port", "must be -1 (off) or 0..65535");
+  if (grpc_tls_cert.empty() != grpc_tls_key.empty())
+    d.Error("/grpc_tls_cert", "give both grpc_tls_cert and grpc_tls_key, or neither");
+  if (max_grpc_streams_per_client < 1 || max_grpc_streams_per_client > 1024)
+    d.Error("/max_grpc_streams_per_client", "must be 1..1024");
   auto range = [&](const char* ptr, long v, long lo, long hi) {
     if (v < lo || v > hi) d.Error(ptr, "must be " + std::to_string(lo) + ".." + std::to_string(hi));
   };
@@ -173,7 +193,9 @@ Json ServerConfig::ToLogJson() const {
           {"llm_base_url", llm.base_url},
           {"llm_model", llm.model}, {"llm_api_key", llm.MaskedKey()},
           {"session_store", session_store.empty() ? "sqlite:" + data_dir + "/sessions.db" : session_store},
-          {"demo", demo},
+          {"demo", demo}, {"grpc_port", grpc_port}, {"grpc_host", grpc_host},
+          {"grpc_tls", !grpc_tls_cert.empty()}, {"api_keys", !api_keys_file.empty()},
+          {"allow_unauthenticated", allow_unauthenticated},
           {"llm_replay", !llm.replay_dir.empty() ? llm.replay_dir : demo ? recordings_dir + " (demo)" : ""}};
 }
 

@@ -7,7 +7,7 @@
 
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
-#include "server/budget.h"
+#include "app/budget.h"
 #include "translator/llm.h"
 
 namespace ctb::server {
@@ -28,7 +28,7 @@ struct ServerConfig {
   int max_connections = 128;       // at once; beyond: 503 at once (the pool has 16 threads more)
   int max_connections_per_address = 32;
   long solver_memory_mb = 2048;    // RLIMIT_AS of each solver process (0: none)
-  ModelBudget budget;              // the model-size budget of one request (server/budget.h)
+  app::ModelBudget budget;              // the model-size budget of one request (server/budget.h)
   int solver_workers = 2;          // solves at once
   int solver_queue = 8;            // solves waiting; beyond: 503 with Retry-After
   long default_time_limit_ms = 30000;
@@ -40,6 +40,15 @@ struct ServerConfig {
   int max_sessions = 1000;
   int session_idle_s = 1800;
   int shutdown_grace_ms = 5000;    // in-flight work gets this long, then is cancelled
+  // gRPC front end (contract section 10): off when grpc_port < 0; 0 picks a free port.
+  int grpc_port = -1;
+  std::string grpc_host = "127.0.0.1";
+  std::string grpc_tls_cert, grpc_tls_key;  // PEM files; both or neither
+  int max_grpc_streams_per_client = 8;      // streaming calls at once from one peer address
+  // Access control for both front ends: a file of keys (app/api_keys.h); "" = none, and then
+  // only loopback addresses are served unless allow_unauthenticated.
+  std::string api_keys_file;
+  bool allow_unauthenticated = false;
   LlmConfig llm;
 
   // Defaults, then the file (if any), then the environment (CTB_*), as documented in

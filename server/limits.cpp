@@ -12,7 +12,7 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 
-#include "server/ids.h"
+#include "app/ids.h"
 
 namespace ctb::server {
 
@@ -278,7 +278,7 @@ void RefuseAndClose(int sock, int status, const std::string& code, const std::st
   std::string out = "HTTP/1.1 " + std::to_string(status) + " " + Reason(status) +
                     "\r\nContent-Type: application/json\r\nContent-Length: " +
                     std::to_string(body.size()) + "\r\nConnection: close\r\nX-Request-Id: " +
-                    RandomHex(8) + "\r\n" + (status == 503 ? "Retry-After: 1\r\n" : "") + "\r\n" + body;
+                    app::RandomHex(8) + "\r\n" + (status == 503 ? "Retry-After: 1\r\n" : "") + "\r\n" + body;
   std::size_t sent = 0;
   while (sent < out.size() && WaitFor(sock, POLLOUT, 1000)) {
     ssize_t n = send(sock, out.data() + sent, out.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);

@@ -19,13 +19,11 @@ using Clock = std::chrono::steady_clock;
 // called from any thread (it is serialised), and is a no-op once the client is gone.
 class EventStream {
  public:
-  EventStream(httplib::DataSink& sink, Clock::time_point t0, int llm_calls_expected)
-      : sink_(sink), t0_(t0), llm_calls_expected_(llm_calls_expected) {}
+  EventStream(httplib::DataSink& sink, Clock::time_point t0) : sink_(sink), t0_(t0) {}
 
   long ElapsedMs() const {
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0_).count();
   }
-  int llm_calls_expected() const { return llm_calls_expected_; }
 
   // Writes one event; data goes on one line (JSON dumps without newlines).
   void Send(const std::string& event, const Json& data) {
@@ -45,48 +43,27 @@ class EventStream {
   httplib::DataSink& sink_;
   bool open_ = true;
   const Clock::time_point t0_;
-  const int llm_calls_expected_;
 };
 
-thread_local EventStream* t_stream = nullptr;
-
-// Installs a stream as this thread's for the scope.
-class ThreadStream {
+// The core's progress as events on one stream, each with the stream's elapsed time.
+class SseObserver : public app::Observer {
  public:
-  explicit ThreadStream(EventStream* s) { t_stream = s; }
-  ~ThreadStream() { t_stream = nullptr; }
-  ThreadStream(const ThreadStream&) = delete;
-  ThreadStream& operator=(const ThreadStream&) = delete;
-};
-
-class ReportingLlm : public LlmClient {
- public:
-  ReportingLlm(std::unique_ptr<LlmClient> inner, EventStream* stream)
-      : inner_(std::move(inner)), stream_(stream) {}
-  std::variant<ChatResponse, Error> Complete(const ChatRequest& req) override {
-    int call = ++calls_;
-    Json data = {{"stage", call > stream_->llm_calls_expected() ? "repairing" : "translating"},
-                 {"llm_call", call},
-                 {"elapsed_ms", stream_->ElapsedMs()}};
-    stream_->Send("stage", data);
-    return inner_->Complete(req);
+  explicit SseObserver(EventStream& s) : s_(s) {}
+  void OnStage(const std::string& stage, const Json& info) override {
+    Json data = info.is_object() ? info : Json::object();
+    data["stage"] = stage;
+    data["elapsed_ms"] = s_.ElapsedMs();
+    s_.Send("stage", data);
   }
-  std::string model() const override { return inner_->model(); }
-  int attempts() const override { return inner_->attempts(); }
+  void OnSolution(const Json& progress) override {
+    Json data = progress;
+    data["elapsed_ms"] = s_.ElapsedMs();
+    s_.Send("solution", data);
+  }
 
  private:
-  std::unique_ptr<LlmClient> inner_;
-  EventStream* stream_;
-  std::atomic<int> calls_{0};
+  EventStream& s_;
 };
-
-// 2430.0 -> 2430, 12.5 stays.
-Json Seconds(const Json& v) {
-  if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() &&
-      std::fabs(v.get<double>()) < 1e15)
-    return static_cast<long long>(v.get<double>());
-  return v;
-}
 
 void SendBadStream(httplib::Response& res) {
   Json err = {{"code", CodeName(ErrorCode::kInvalidInput)},
@@ -103,19 +80,13 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res, std::ato
                    const RouteHandler& handler) {
   Diagnostics d;
   auto body = ParseJsonStrict(req.body, d);
-  if (!body || !body->is_object() || !body->contains("stream")) return handler(req, res);
+  if (!body || !body->is_object() || !body->contains("stream")) return handler(req, res, nullptr);
   const Json stream = (*body)["stream"];
   if (!stream.is_boolean()) return SendBadStream(res);
   body->erase("stream");
   auto inner = std::make_shared<httplib::Request>(req);
   inner->body = body->dump();
-  if (!stream.get<bool>()) return handler(*inner, res);
-
-  // The LLM calls the prompting mode makes before any repair: chain of thought makes two (extract,
-  // map), direct one; a follow-up in a session one.
-  int expected = 1;
-  if (!body->contains("session") && (!body->contains("prompting") || (*body)["prompting"] == "cot"))
-    expected = 2;
+  if (!stream.get<bool>()) return handler(*inner, res, nullptr);
   const std::string request_id = ThreadRequestId();
   const auto t0 = Clock::now();
   res.set_header("Cache-Control", "no-cache");
@@ -125,14 +96,14 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res, std::ato
   ++in_flight;  // counted from now: the provider runs after this handler returns
   res.set_chunked_content_provider(
       "text/event-stream",
-      [inner, run, counter, request_id, t0, expected](std::size_t, httplib::DataSink& sink) {
+      [inner, run, counter, request_id, t0](std::size_t, httplib::DataSink& sink) {
         SetThreadRequestId(request_id);
-        EventStream stream(sink, t0, expected);
+        EventStream stream(sink, t0);
+        SseObserver observer(stream);
         httplib::Response answer;
         {
-          ThreadStream installed(&stream);
           try {
-            run(*inner, answer);
+            run(*inner, answer, &observer);
           } catch (const std::exception& e) {
             spdlog::error("{}", Json("unhandled exception in a stream: " + std::string(e.what()))
                                     .dump(-1, ' ', false, Json::error_handler_t::replace));
@@ -166,35 +137,6 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res, std::ato
       // Runs when the response is gone, whether or not the provider ran (a client that left
       // before it started): the job is no longer in flight.
       [counter](bool) { --*counter; });
-}
-
-void StreamStage(const std::string& stage) {
-  if (t_stream) t_stream->Send("stage", {{"stage", stage}, {"elapsed_ms", t_stream->ElapsedMs()}});
-}
-
-std::function<void(const Json& progress)> StreamSolutionReporter() {
-  EventStream* s = t_stream;
-  if (!s) return nullptr;
-  return [s](const Json& p) {
-    Json data = p;
-    const std::string kind = p.value("kind", "cost");
-    Json makespan = Seconds(p.value("makespan", Json()));
-    data["makespan"] = makespan;
-    if (kind == "makespan")
-      data["objective"] = makespan;
-    else if (kind == "cost_then_makespan")
-      data["objective"] = {{"cost", p.value("cost", Json())}, {"makespan", makespan}};
-    else
-      data["objective"] = p.value("cost", Json());
-    data["solve_ms"] = p.value("elapsed_ms", Json());
-    data["elapsed_ms"] = s->ElapsedMs();
-    s->Send("solution", data);
-  };
-}
-
-std::unique_ptr<LlmClient> StreamReportingLlm(std::unique_ptr<LlmClient> inner) {
-  if (!t_stream) return inner;
-  return std::make_unique<ReportingLlm>(std::move(inner), t_stream);
 }
 
 }  // namespace ctb::server

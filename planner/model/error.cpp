@@ -13,6 +13,8 @@ int HttpStatus(ErrorCode code) {
     case ErrorCode::kUpstreamFailed: return 502;
     case ErrorCode::kUpstreamTimeout: return 504;
     case ErrorCode::kInternal: return 500;
+    case ErrorCode::kConflict: return 409;
+    case ErrorCode::kUnauthenticated: return 401;
   }
   return 500;
 }
@@ -28,6 +30,8 @@ const char* CodeName(ErrorCode code) {
     case ErrorCode::kUpstreamFailed: return "upstream_failed";
     case ErrorCode::kUpstreamTimeout: return "upstream_timeout";
     case ErrorCode::kInternal: return "internal";
+    case ErrorCode::kConflict: return "conflict";
+    case ErrorCode::kUnauthenticated: return "unauthenticated";
   }
   return "internal";
 }

@@ -23,6 +23,8 @@ enum class ErrorCode {
   kUpstreamFailed,  // 502: LLM endpoint answered with an error
   kUpstreamTimeout, // 504: LLM endpoint timed out
   kInternal,        // 500: a bug (e.g. a trajectory that fails verification)
+  kConflict,        // 409: a session changed meanwhile; a name that exists
+  kUnauthenticated, // 401: no or a wrong API key
 };
 
 // HTTP status for a code, and the stable lower-case name used in JSON ("invalid_input", ...).
@@ -62,6 +64,8 @@ struct Error {
   ErrorCode code = ErrorCode::kInternal;
   std::string message;
   std::vector<Diagnostic> details;  // every problem found, in input order
+  // For kTooLarge from a budget: the limit as a JSON text {"name", "value", "actual"}; else "".
+  std::string limit = {};
 
   static Error FromDiagnostics(ErrorCode code, std::string message, const Diagnostics& d);
   // The message followed by one line per detail.

@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <mutex>
 
-#include "server/domain_store.h"
+#include "app/domain_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -194,4 +194,4 @@ std::unique_ptr<DomainStore> OpenRedisDomainStore(const std::string& host, int p
   return s;
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

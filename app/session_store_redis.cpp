@@ -8,9 +8,9 @@
 #include <chrono>
 #include <mutex>
 
-#include "server/session_store.h"
+#include "app/session_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -184,4 +184,4 @@ std::unique_ptr<SessionStore> OpenRedisStore(const std::string& host, int port, 
   return s;
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

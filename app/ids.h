@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-namespace ctb::server {
+namespace ctb::app {
 
 // `bytes` random bytes from the kernel's CSPRNG (getrandom(2)), as lower-case hex. 16 bytes (128
 // bits) for session ids. Blocks only before the kernel's pool is initialised; never throws (on a
@@ -16,4 +16,4 @@ std::string RandomHex(std::size_t bytes = 16);
 // when cut, for echoing in messages: a 1 MB id is never sent back whole.
 std::string Echo(const std::string& s, std::size_t max = 64);
 
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -1,8 +1,8 @@
-#include "server/metrics.h"
+#include "app/metrics.h"
 
 #include <sstream>
 
-namespace ctb::server {
+namespace ctb::app {
 
 const std::vector<double>& Metrics::Buckets() {
   static const std::vector<double> b = {0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30, 60};
@@ -57,4 +57,4 @@ std::string Metrics::Render() const {
   return o.str();
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

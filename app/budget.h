@@ -18,7 +18,7 @@
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 struct ModelBudget {
   long max_automata = 64;
@@ -50,4 +50,4 @@ std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget
 // String bytes in a JSON value (keys and values), for the caller's running total.
 long StringBytes(const Json& j);
 
-}  // namespace ctb::server
+}  // namespace ctb::app

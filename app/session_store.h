@@ -20,7 +20,7 @@
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 struct StoredSession {
   std::string id;
@@ -67,4 +67,4 @@ std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_
 std::unique_ptr<SessionStore> OpenRedisStore(const std::string& host, int port, int db, long max_sessions,
                                              long idle_s, std::string& error);
 
-}  // namespace ctb::server
+}  // namespace ctb::app

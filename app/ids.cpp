@@ -1,4 +1,4 @@
-#include "server/ids.h"
+#include "app/ids.h"
 
 #include <fcntl.h>
 #include <sys/random.h>
@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -58,4 +58,4 @@ std::string Echo(const std::string& s, std::size_t max) {
   return s.substr(0, cut) + "...";
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -1,7 +1,7 @@
-// The domain store (server/domain_store.h) on SQLite (a file in a temporary directory, reopened
+// The domain store (app/domain_store.h) on SQLite (a file in a temporary directory, reopened
 // to show persistence) and on a real redis-server on a free loopback port (two store objects as
 // two replicas): create, read, list, replace, delete, conflicts, the cap.
-#include "server/domain_store.h"
+#include "app/domain_store.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -18,7 +18,7 @@
 #include <gtest/gtest.h>
 
 
-namespace ctb::server {
+namespace ctb::app {
 namespace {
 
 Json Doc(const std::string& name, int n) {
@@ -154,4 +154,4 @@ TEST(DomainStore, ABadUrlIsRefused) {
 }
 
 }  // namespace
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -1,8 +1,8 @@
-#include "server/budget.h"
+#include "app/budget.h"
 
 #include <algorithm>
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -129,4 +129,4 @@ std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget
   return Strings(plan, b, pointer, string_total);
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

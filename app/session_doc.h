@@ -12,7 +12,7 @@
 #include "planner/model/json_io.h"
 #include "translator/llm.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 // What a follow-up needs from the session.
 struct Session {
@@ -34,4 +34,4 @@ struct StoredSession;
 // GET /sessions/{id}: {"session", "domain", "turns", "created", "updated"}.
 Json SessionView(const StoredSession& s);
 
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace ctb::server {
+namespace ctb::app {
 
 class Metrics {
  public:
@@ -27,4 +27,4 @@ class Metrics {
   long llm_calls_ = 0, llm_repairs_ = 0;
 };
 
-}  // namespace ctb::server
+}  // namespace ctb::app

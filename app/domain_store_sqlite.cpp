@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <mutex>
 
-#include "server/domain_store.h"
+#include "app/domain_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -197,4 +197,4 @@ std::variant<std::unique_ptr<DomainStore>, Error> OpenDomainStore(const SessionS
   return s;
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

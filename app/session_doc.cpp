@@ -1,10 +1,10 @@
-#include "server/session_doc.h"
+#include "app/session_doc.h"
 
 #include <ctime>
 
-#include "server/session_store.h"
+#include "app/session_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -66,4 +66,4 @@ Json SessionView(const StoredSession& s) {
           {"created", Iso8601(s.created_ms)}, {"updated", Iso8601(s.updated_ms)}};
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <mutex>
 
-#include "server/session_store.h"
+#include "app/session_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 namespace {
 
@@ -203,6 +203,11 @@ std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, in
 
 std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c) {
   std::string error;
+  if (c.url == "memory") {  // the CLI's local mode: sessions die with the process
+    auto s = OpenSqliteStore(":memory:", c.max_sessions, c.idle_s, error);
+    if (!s) return Error{ErrorCode::kUnavailable, error, {}};
+    return s;
+  }
   if (c.url.empty() || c.url == "sqlite") {
     std::error_code ec;
     std::filesystem::create_directories(c.data_dir, ec);
@@ -218,4 +223,4 @@ std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const Sessio
   return s;
 }
 
-}  // namespace ctb::server
+}  // namespace ctb::app

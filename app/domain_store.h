@@ -16,9 +16,9 @@
 #include <variant>
 #include <vector>
 
-#include "server/session_store.h"
+#include "app/session_store.h"
 
-namespace ctb::server {
+namespace ctb::app {
 
 struct StoredDomain {
   std::string name;
@@ -52,4 +52,4 @@ std::unique_ptr<DomainStore> OpenSqliteDomainStore(const std::string& path, long
 std::unique_ptr<DomainStore> OpenRedisDomainStore(const std::string& host, int port, int db,
                                                   long max_domains, std::string& error);
 
-}  // namespace ctb::server
+}  // namespace ctb::app

@@ -1,0 +1,187 @@
+// The application core (contract section 10): every use case of the service as a typed call,
+// with no HTTP or gRPC type inside. The HTTP server (server/), the gRPC server (grpc/) and the
+// CLI's local mode are thin adapters: they turn their wire format into these calls and the
+// results back into JSON or protobuf.
+//
+// Inputs that are documents in the contract (a state plan, an action model, a command) stay
+// JSON values here: both front ends carry them as JSON (gRPC through protobuf's JSON mapping).
+// Everything else is typed. Errors are ctb::Error values whose details carry the JSON pointer
+// of each problem (relative to the request body: "/state_plan/goal...", "/options/horizon").
+//
+// Progress reaches a front end through an Observer; cancellation through the call's
+// `cancelled` predicate, which the core polls (every 100 ms while a solver runs) besides its
+// own shutdown flag. A job gate bounds the solves running at once for all front ends together.
+//
+// Thread-safe: one Core serves every front end's threads. Never throws.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "app/budget.h"
+#include "app/metrics.h"
+#include "planner/model/domain.h"
+#include "planner/model/error.h"
+#include "planner/model/json_io.h"
+#include "planner/solve/solve.h"
+#include "translator/llm.h"
+
+namespace ctb::app {
+
+struct CoreConfig {
+  std::string config_dir;      // shipped domains: <config_dir>/domains/*.json
+  std::string prompts_dir;
+  std::string recordings_dir;  // answers /plan and /translate with `demo` and no LLM
+  std::string minizinc = "minizinc";
+  long solver_memory_mb = 2048;
+  ModelBudget budget;          // the model-size budget of one request (app/budget.h)
+  int solver_workers = 2;      // solves at once (all front ends)
+  int solver_queue = 8;        // solves waiting; beyond: kBusy
+  long default_time_limit_ms = 30000;
+  long max_time_limit_ms = 60000;  // a request's time_limit_ms is capped to this
+  int max_horizon_limit = 64;
+  std::string data_dir = "./data";
+  std::string session_store;  // "" / "sqlite", "redis://host:port/db", or "memory" (CLI)
+  int max_sessions = 1000;
+  int session_idle_s = 1800;
+  bool demo = false;
+  LlmConfig llm;
+};
+
+// What a front end hears while a call runs. Called on the calling thread; default: nothing.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  // stage: "translating" | "repairing" | "solving"; info: {"llm_call"?}.
+  virtual void OnStage(const std::string& stage, const Json& info) {}
+  // Each improving verified plan: {"kind", "objective", "cost", "makespan", "horizon", "bound"?,
+  // "elapsed_ms"}.
+  virtual void OnSolution(const Json& progress) {}
+};
+
+// Per call: who listens, when to stop, and the request id for the logs.
+struct CallContext {
+  Observer* observer = nullptr;
+  std::function<bool()> cancelled;  // polled; true stops the job (its solver is killed)
+  std::string request_id;
+};
+
+struct RequestOptions {
+  std::optional<std::string> objective;  // cost | makespan | cost_then_makespan
+  std::optional<long> time_limit_ms;
+  std::optional<long> horizon;
+  std::optional<long> max_horizon;
+};
+
+// A domain by name, or an inline action model (exactly one).
+struct DomainRef {
+  std::optional<std::string> name;
+  std::optional<Json> action_model;
+};
+
+struct SolveCall {
+  DomainRef domain;
+  Json state_plan;
+  RequestOptions options;
+  // Local callers only (the CLI's engine flags, benchmarks): adjusts the planner's options after
+  // the request's own are applied. Front ends never set it.
+  std::function<void(SolveOptions&)> tune;
+};
+
+struct TranslateCall {
+  DomainRef domain;
+  Json command;                         // must be a string (checked)
+  std::optional<std::string> prompting;  // cot | direct
+};
+
+struct PlanCall {
+  std::optional<std::string> domain;
+  Json command;
+  std::optional<std::string> prompting;
+  std::optional<std::string> session;
+  RequestOptions options;
+};
+
+enum class PlanStatus { kOptimal, kFeasible, kInfeasible, kUnknown };
+const char* PlanStatusName(PlanStatus s);
+
+// A planner answer: the typed parts front ends map (status, objective, bound, proof reach,
+// statistics), and the contract's section-5 document itself (with state_plan_summary and, when
+// infeasible, explanation), which is what the HTTP API returns as is.
+struct Answer {
+  PlanStatus status = PlanStatus::kUnknown;
+  std::optional<double> objective;
+  std::optional<double> bound;
+  bool verified = false;
+  // "any_horizon" when a static proof covers every number of events; "max_horizon" when the
+  // proof holds up to the `horizon` statistic; "" unless infeasible.
+  std::string infeasible_for;
+  std::map<std::string, std::string> metrics;  // solver, solve_ms, horizon, ... as text
+  Json document;                               // the whole trajectory answer (section 5, 9)
+};
+
+struct TranslateAnswer {
+  Json state_plan;
+  std::string reasoning;
+  Json warnings;  // [] or [{"path"?, "message"}]
+};
+
+struct PlanAnswer {
+  TranslateAnswer translation;
+  Answer answer;
+  std::string session;
+};
+
+struct ValidateAnswer {
+  Json warnings;  // [{"path", "message"}]
+};
+
+struct DomainInfo {
+  std::string name, description;
+  std::vector<std::string> automata;
+};
+
+class Core {
+ public:
+  // Loads the shipped domains and opens the session store; an Error says what failed.
+  static std::variant<std::unique_ptr<Core>, Error> Open(const CoreConfig& cfg);
+  ~Core();
+
+  std::variant<Answer, Error> Solve(const SolveCall& call, const CallContext& ctx);
+  std::variant<ValidateAnswer, Error> Validate(const SolveCall& call);
+  std::variant<TranslateAnswer, Error> Translate(const TranslateCall& call, const CallContext& ctx);
+  std::variant<PlanAnswer, Error> Plan(const PlanCall& call, const CallContext& ctx);
+
+  // {"session", "domain", "turns", "created", "updated"} (contract section 9).
+  std::variant<Json, Error> GetSession(const std::string& id);
+  std::optional<Error> DeleteSession(const std::string& id);
+
+  std::vector<DomainInfo> ListDomains() const;
+  // The domain document (as the catalog holds it), or kNotFound.
+  std::variant<Json, Error> GetDomain(const std::string& name) const;
+
+  // "replay" | "endpoint" | "recordings" | "none": which LLM answers /plan.
+  std::string LlmMode() const;
+  bool SolverReady() const;
+  // Stops every running job (their solvers are killed) and refuses new ones.
+  void Shutdown();
+  Metrics& metrics();
+
+  struct Impl;  // opaque (app/core_impl.h)
+
+ private:
+  explicit Core(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Request-side checks shared by the front ends. The JSON form of options ("/options" of a body)
+// into RequestOptions: type errors at their pointers.
+std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options);
+
+}  // namespace ctb::app

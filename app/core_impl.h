@@ -1,0 +1,50 @@
+// The core's state and the helpers its use cases share. Internal to app/.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <string>
+#include <variant>
+
+#include "app/core.h"
+#include "app/job_gate.h"
+#include "app/session_store.h"
+#include "planner/model/state_plan.h"
+#include "planner/solve/solve.h"
+
+namespace ctb::app {
+
+struct Core::Impl {
+  explicit Impl(const CoreConfig& c) : cfg(c), gate(c.solver_workers, c.solver_queue, metrics) {}
+
+  CoreConfig cfg;
+  Metrics metrics;
+  JobGate gate;
+  std::map<std::string, Domain> domains;
+  std::unique_ptr<SessionStore> sessions;
+  std::shared_ptr<LlmClient> demo_llm;
+  std::atomic<bool> stopping{false};
+  bool ready = false;
+
+  // A domain by name or inline action model; over the model budget: kTooLarge with `limit`.
+  std::variant<std::shared_ptr<const Domain>, Error> ResolveDomain(const DomainRef& ref) const;
+  // The state plan document checked against the domain; pointers prefixed with `prefix`.
+  std::variant<StatePlan, Error> CheckPlan(const Json& j, const Domain& d,
+                                           const std::string& prefix) const;
+  // The request's options within the service's limits, as planner options.
+  std::variant<SolveOptions, Error> MakeOptions(const RequestOptions& r) const;
+  // Solves in a job slot; the job stops when ctx.cancelled() or Shutdown().
+  std::variant<Answer, Error> SolveGated(const Domain& d, const StatePlan& sp, SolveOptions o,
+                                         const CallContext& ctx);
+  // The configured LLM client, else the demo recordings, else kUnavailable.
+  std::variant<std::unique_ptr<LlmClient>, Error> Llm() const;
+};
+
+// The typed view of a planner answer (Solve()'s JSON document, annotated).
+Answer AnswerFromDocument(Json doc);
+
+// Bad input at one pointer.
+Error Bad(const std::string& message, const std::string& pointer);
+
+}  // namespace ctb::app

@@ -1,0 +1,263 @@
+// Core::Solve and Core::Validate, and what every solving use case shares: resolving the domain,
+// checking the state plan and the options, and running the planner in a job slot.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "app/budget.h"
+#include "app/core_impl.h"
+#include "app/ids.h"
+#include "planner/explain/explain.h"
+
+namespace ctb::app {
+
+namespace {
+
+// 2430.0 -> 2430; 12.5 stays.
+Json Seconds(const Json& v) {
+  if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() &&
+      std::fabs(v.get<double>()) < 1e15)
+    return static_cast<long long>(v.get<double>());
+  return v;
+}
+
+// The planner's progress as the contract's `solution` event (objective in the kind's shape).
+Json SolutionEvent(const Json& p) {
+  Json data = p;
+  const std::string kind = p.value("kind", "cost");
+  Json makespan = Seconds(p.value("makespan", Json()));
+  data["makespan"] = makespan;
+  if (kind == "makespan")
+    data["objective"] = makespan;
+  else if (kind == "cost_then_makespan")
+    data["objective"] = {{"cost", p.value("cost", Json())}, {"makespan", makespan}};
+  else
+    data["objective"] = p.value("cost", Json());
+  data["solve_ms"] = p.value("elapsed_ms", Json());
+  return data;
+}
+
+std::optional<double> Number(const Json& v) {
+  if (v.is_number()) return v.get<double>();
+  if (v.is_object() && v.contains("cost") && v["cost"].is_number()) return v["cost"].get<double>();
+  return std::nullopt;
+}
+
+std::string Text(const Json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+}  // namespace
+
+Error Bad(const std::string& message, const std::string& pointer) {
+  return {ErrorCode::kInvalidInput, message, {{pointer, std::nullopt, message}}};
+}
+
+const char* PlanStatusName(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kOptimal: return "optimal";
+    case PlanStatus::kFeasible: return "feasible";
+    case PlanStatus::kInfeasible: return "infeasible";
+    case PlanStatus::kUnknown: return "unknown";
+  }
+  return "unknown";
+}
+
+Answer AnswerFromDocument(Json doc) {
+  Answer a;
+  const std::string status = doc.value("status", "unknown");
+  a.status = status == "optimal"      ? PlanStatus::kOptimal
+             : status == "feasible"   ? PlanStatus::kFeasible
+             : status == "infeasible" ? PlanStatus::kInfeasible
+                                      : PlanStatus::kUnknown;
+  if (doc.contains("objective") && doc["objective"].is_object())
+    a.objective = Number(doc["objective"].value("value", Json()));
+  if (doc.contains("bound")) a.bound = Number(doc["bound"]);
+  a.verified = doc.value("verified", false);
+  if (a.status == PlanStatus::kInfeasible) {
+    if (doc.contains("infeasible_for") && doc["infeasible_for"].is_string())
+      a.infeasible_for = doc["infeasible_for"];
+    else
+      a.infeasible_for = doc.value("stats", Json::object()).value("solver", "") == "static analysis"
+                             ? "any_horizon"
+                             : "max_horizon";
+  }
+  if (doc.contains("stats") && doc["stats"].is_object())
+    for (auto& [k, v] : doc["stats"].items()) a.metrics[k] = Text(v);
+  for (const char* k : {"horizon", "max_horizon", "goal_reached_at", "cost"})
+    if (doc.contains(k) && !doc[k].is_null()) a.metrics[k] = Text(doc[k]);
+  a.document = std::move(doc);
+  return a;
+}
+
+std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
+  RequestOptions r;
+  Diagnostics d;
+  ObjectReader reader(options, "/options", d);
+  reader.CheckKeys({"time_limit_ms", "horizon", "max_horizon", "objective"});
+  auto integer = [&](const char* k, std::optional<long>& out) {
+    const Json* v = reader.Get(k);
+    if (!v) return;
+    if (!v->is_number_integer()) return d.Error(reader.Child(k), "must be an integer");
+    out = v->get<long>();
+  };
+  integer("time_limit_ms", r.time_limit_ms);
+  integer("horizon", r.horizon);
+  integer("max_horizon", r.max_horizon);
+  if (auto ob = reader.String("objective", false)) r.objective = *ob;
+  if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
+  return r;
+}
+
+std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::ResolveDomain(
+    const DomainRef& ref) const {
+  if (ref.name.has_value() == ref.action_model.has_value())
+    return Bad("give exactly one of \"domain\" and \"action_model\"", "/domain");
+  if (ref.name) {
+    auto it = domains.find(*ref.name);
+    if (it == domains.end())
+      return Error{ErrorCode::kNotFound, "unknown domain '" + Echo(*ref.name) + "'",
+                   {{"/domain", std::nullopt, "see GET /domains"}}};
+    return std::shared_ptr<const Domain>(std::shared_ptr<const Domain>(), &it->second);
+  }
+  if (auto over = CheckActionModel(*ref.action_model, cfg.budget, "/action_model")) {
+    Error e = over->error;
+    e.limit = over->ToJson().dump();
+    return e;
+  }
+  Diagnostics d, prefixed;
+  auto dom = LoadDomain(*ref.action_model, d);
+  for (const auto& e : d.errors()) prefixed.Error("/action_model" + e.pointer, e.message, e.offset);
+  if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", prefixed);
+  return std::make_shared<const Domain>(std::move(*dom));
+}
+
+std::variant<StatePlan, Error> Core::Impl::CheckPlan(const Json& j, const Domain& d,
+                                                     const std::string& prefix) const {
+  Diagnostics diags, prefixed;
+  auto sp = LoadStatePlan(j, d, diags);
+  for (const auto& e : diags.errors()) prefixed.Error(prefix + e.pointer, e.message, e.offset);
+  if (!sp) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan", prefixed);
+  return *sp;
+}
+
+std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& r) const {
+  SolveOptions o;
+  o.minizinc = cfg.minizinc;
+  o.time_limit_ms = cfg.default_time_limit_ms;
+  o.portfolio = 1;  // one core per job: the gate bounds concurrency
+  Diagnostics d;
+  auto range = [&](const char* k, const std::optional<long>& v, long lo, long hi) {
+    if (v && (*v < lo || *v > hi))
+      d.Error(std::string("/options/") + k,
+              "must be an integer between " + std::to_string(lo) + " and " + std::to_string(hi));
+    return v && *v >= lo && *v <= hi;
+  };
+  if (range("time_limit_ms", r.time_limit_ms, 1, 3600000))
+    o.time_limit_ms = std::min(*r.time_limit_ms, cfg.max_time_limit_ms);
+  if (range("horizon", r.horizon, 0, cfg.max_horizon_limit)) o.horizon = static_cast<int>(*r.horizon);
+  if (range("max_horizon", r.max_horizon, 0, cfg.max_horizon_limit))
+    o.max_horizon = static_cast<int>(*r.max_horizon);
+  if (r.horizon && r.max_horizon) d.Error("/options/max_horizon", "give horizon or max_horizon, not both");
+  if (r.objective) {
+    o.objective = ParseObjective(*r.objective);
+    if (!o.objective) d.Error("/options/objective", "must be cost, makespan or cost_then_makespan");
+  }
+  if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
+  return o;
+}
+
+std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StatePlan& sp,
+                                                   SolveOptions o, const CallContext& ctx) {
+  if (!gate.Enter(stopping)) {
+    ++metrics.solver_rejected;
+    return Error{ErrorCode::kBusy, "all solver slots are busy; retry later", {}};
+  }
+  std::atomic<bool> job_cancel{false}, done{false};
+  o.cancel = &job_cancel;
+  if (ctx.observer) {
+    ctx.observer->OnStage("solving", Json::object());
+    Observer* obs = ctx.observer;
+    o.on_progress = [obs](const Json& p) { obs->OnSolution(SolutionEvent(p)); };
+  }
+  // The watcher trips the job's flag when the front end says so or the core stops; it never
+  // throws (a throw in a thread ends the process) and is joined however the solve ends.
+  std::thread watch([this, &ctx, &job_cancel, &done]() noexcept {
+    try {
+      while (!done) {
+        if (stopping || (ctx.cancelled && ctx.cancelled())) {
+          job_cancel = true;
+          return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    } catch (...) {
+      job_cancel = true;
+    }
+  });
+  struct Finish {
+    std::atomic<bool>& done;
+    std::thread& watch;
+    JobGate& gate;
+    ~Finish() {
+      done = true;
+      if (watch.joinable()) watch.join();
+      gate.Leave();
+    }
+  } finish{done, watch, gate};
+  try {
+    auto r = ::ctb::Solve(d, sp, o);
+    if (auto* e = std::get_if<Error>(&r)) return *e;
+    Json& doc = std::get<Json>(r);
+    AnnotateAnswer(d, sp, o, doc);  // summary; explanation when infeasible
+    return AnswerFromDocument(std::move(doc));
+  } catch (const std::bad_alloc&) {
+    spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", "out of memory"}}).dump());
+    return Error{ErrorCode::kUnavailable,
+                 "the server ran out of memory for this solve; retry later with a smaller model "
+                 "(request id " + ctx.request_id + ")", {}};
+  } catch (const std::exception& e) {
+    spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", e.what()}})
+                            .dump(-1, ' ', false, Json::error_handler_t::replace));
+    return Error{ErrorCode::kInternal, "the solve failed (request id " + ctx.request_id + ")", {}};
+  }
+}
+
+std::variant<Answer, Error> Core::Solve(const SolveCall& call, const CallContext& ctx) {
+  auto dom = impl_->ResolveDomain(call.domain);
+  if (auto* e = std::get_if<Error>(&dom)) return *e;
+  const Domain& domain = *std::get<std::shared_ptr<const Domain>>(dom);
+  if (call.state_plan.is_null()) return Bad("missing \"state_plan\"", "/state_plan");
+  const long model_strings = call.domain.action_model ? StringBytes(*call.domain.action_model) : 0;
+  if (auto over = CheckStatePlan(call.state_plan, impl_->cfg.budget, "/state_plan", model_strings)) {
+    Error e = over->error;
+    e.limit = over->ToJson().dump();
+    return e;
+  }
+  auto sp = impl_->CheckPlan(call.state_plan, domain, "/state_plan");
+  if (auto* e = std::get_if<Error>(&sp)) return *e;
+  auto opts = impl_->MakeOptions(call.options);
+  if (auto* e = std::get_if<Error>(&opts)) return *e;
+  if (call.tune) {
+    call.tune(std::get<SolveOptions>(opts));
+    if (auto e = ValidateSolveOptions(std::get<SolveOptions>(opts))) return *e;
+  }
+  return impl_->SolveGated(domain, std::get<StatePlan>(sp), std::get<SolveOptions>(opts), ctx);
+}
+
+std::variant<ValidateAnswer, Error> Core::Validate(const SolveCall& call) {
+  auto dom = impl_->ResolveDomain(call.domain);
+  if (auto* e = std::get_if<Error>(&dom)) return *e;
+  if (call.state_plan.is_null()) return Bad("missing \"state_plan\"", "/state_plan");
+  Diagnostics diags, prefixed;
+  auto sp = LoadStatePlan(call.state_plan, *std::get<std::shared_ptr<const Domain>>(dom), diags);
+  for (const auto& e : diags.errors()) prefixed.Error("/state_plan" + e.pointer, e.message, e.offset);
+  if (!sp) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan", prefixed);
+  ValidateAnswer v;
+  v.warnings = Json::array();
+  for (const auto& w : diags.warnings())
+    v.warnings.push_back({{"path", "/state_plan" + w.pointer}, {"message", w.message}});
+  return v;
+}
+
+}  // namespace ctb::app

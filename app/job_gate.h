@@ -1,0 +1,49 @@
+// Solver slots shared by every front end: at most `workers` solves run, at most `queue` wait;
+// beyond that Enter() refuses. Internal to the core. Thread-safe.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+
+#include "app/metrics.h"
+
+namespace ctb::app {
+
+class JobGate {
+ public:
+  JobGate(int workers, int queue, Metrics& m) : workers_(workers), queue_(queue), m_(m) {}
+  // Waits for a slot; false when the queue is full or `stopping` became true while waiting.
+  bool Enter(const std::atomic<bool>& stopping) {
+    std::unique_lock<std::mutex> lock(mu_);
+    if (running_ >= workers_) {
+      if (waiting_ >= queue_) return false;
+      ++waiting_;
+      m_.solver_queued = waiting_;
+      cv_.wait(lock, [&] { return running_ < workers_ || stopping.load(); });
+      --waiting_;
+      m_.solver_queued = waiting_;
+      if (stopping.load()) {
+        cv_.notify_all();
+        return false;
+      }
+    }
+    m_.solver_running = ++running_;
+    return true;
+  }
+  void Leave() {
+    std::lock_guard<std::mutex> lock(mu_);
+    m_.solver_running = --running_;
+    cv_.notify_one();
+  }
+  void WakeAll() { cv_.notify_all(); }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  int running_ = 0, waiting_ = 0;
+  const int workers_, queue_;
+  Metrics& m_;
+};
+
+}  // namespace ctb::app

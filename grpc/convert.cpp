@@ -1,0 +1,135 @@
+#include "grpc/convert.h"
+
+#include <google/protobuf/util/json_util.h>
+
+#include "google/rpc/error_details.pb.h"
+#include "google/rpc/status.pb.h"
+
+namespace ctb::grpcfront {
+
+namespace {
+
+// The section-5 document with the wrappers protobuf needs: a timeline's segments.
+Json WrapForProto(Json doc) {
+  if (doc.contains("timelines") && doc["timelines"].is_object())
+    for (auto& [name, segs] : doc["timelines"].items()) segs = {{"segments", segs}};
+  return doc;
+}
+
+google::protobuf::Value ValueOf(const Json& j) {
+  google::protobuf::Value v;
+  FromJson(j, &v);
+  return v;
+}
+
+grpc::StatusCode CodeOf(ErrorCode c) {
+  switch (c) {
+    case ErrorCode::kInvalidInput: return grpc::StatusCode::INVALID_ARGUMENT;
+    case ErrorCode::kNotFound: return grpc::StatusCode::NOT_FOUND;
+    case ErrorCode::kTooLarge: return grpc::StatusCode::RESOURCE_EXHAUSTED;
+    case ErrorCode::kUnprocessable: return grpc::StatusCode::FAILED_PRECONDITION;
+    case ErrorCode::kBusy: return grpc::StatusCode::RESOURCE_EXHAUSTED;
+    case ErrorCode::kUnavailable: return grpc::StatusCode::UNAVAILABLE;
+    case ErrorCode::kUpstreamFailed: return grpc::StatusCode::UNAVAILABLE;
+    case ErrorCode::kUpstreamTimeout: return grpc::StatusCode::DEADLINE_EXCEEDED;
+    case ErrorCode::kInternal: return grpc::StatusCode::INTERNAL;
+    case ErrorCode::kConflict: return grpc::StatusCode::ABORTED;
+    case ErrorCode::kUnauthenticated: return grpc::StatusCode::UNAUTHENTICATED;
+  }
+  return grpc::StatusCode::INTERNAL;
+}
+
+}  // namespace
+
+Json ToJson(const google::protobuf::Message& m) {
+  google::protobuf::util::JsonPrintOptions o;
+  o.preserve_proto_field_names = true;
+  std::string text;
+  if (!google::protobuf::util::MessageToJsonString(m, &text, o).ok()) return Json::object();
+  return Json::parse(text, nullptr, false);
+}
+
+std::optional<std::string> FromJson(const Json& j, google::protobuf::Message* m) {
+  google::protobuf::util::JsonParseOptions o;
+  o.ignore_unknown_fields = true;
+  auto st = google::protobuf::util::JsonStringToMessage(
+      j.dump(-1, ' ', false, Json::error_handler_t::replace), m, o);
+  if (st.ok()) return std::nullopt;
+  return std::string(st.message());
+}
+
+app::RequestOptions OptionsOf(const pb::Options& o) {
+  app::RequestOptions r;
+  if (o.has_objective()) r.objective = o.objective();
+  if (o.has_time_limit_ms()) r.time_limit_ms = o.time_limit_ms();
+  if (o.has_horizon()) r.horizon = o.horizon();
+  if (o.has_max_horizon()) r.max_horizon = o.max_horizon();
+  return r;
+}
+
+pb::PlanStatus StatusOf(const app::Answer& a) {
+  switch (a.status) {
+    case app::PlanStatus::kOptimal: return pb::SOLVED_OPTIMALLY;
+    case app::PlanStatus::kFeasible: return pb::SOLVED_SATISFICING;
+    case app::PlanStatus::kInfeasible:
+      return a.infeasible_for == "any_horizon" ? pb::UNSOLVABLE_PROVEN : pb::UNSOLVABLE_INCOMPLETELY;
+    case app::PlanStatus::kUnknown: return pb::TIMEOUT;
+  }
+  return pb::INTERNAL_ERROR;
+}
+
+pb::PlanResult ResultOf(const app::Answer& a) {
+  pb::PlanResult r;
+  r.set_status(StatusOf(a));
+  const Json& doc = a.document;
+  Json traj = WrapForProto(doc);
+  traj.erase("state_plan_summary");
+  traj.erase("explanation");
+  if (a.status == app::PlanStatus::kInfeasible) traj["infeasible_for"] = a.infeasible_for;
+  FromJson(traj, r.mutable_trajectory());
+  if (doc.contains("objective") && doc["objective"].is_object())
+    *r.mutable_objective() = ValueOf(doc["objective"].value("value", Json()));
+  if (doc.contains("bound")) *r.mutable_bound() = ValueOf(doc["bound"]);
+  if (doc.contains("state_plan_summary"))
+    for (const auto& s : doc["state_plan_summary"]) FromJson(s, r.add_state_plan_summary());
+  if (doc.contains("explanation")) FromJson(doc["explanation"], r.mutable_explanation());
+  if (doc.contains("diff")) FromJson(doc["diff"], r.mutable_diff());
+  for (const auto& [k, v] : a.metrics) (*r.mutable_metrics())[k] = v;
+  if (!a.infeasible_for.empty()) (*r.mutable_metrics())["infeasible_for"] = a.infeasible_for;
+  return r;
+}
+
+pb::PlanResult IntermediateOf(const Json& p) {
+  pb::PlanResult r;
+  r.set_status(pb::INTERMEDIATE);
+  if (p.contains("objective")) *r.mutable_objective() = ValueOf(p["objective"]);
+  if (p.contains("bound")) *r.mutable_bound() = ValueOf(p["bound"]);
+  for (auto& [k, v] : p.items())
+    if (!v.is_null() && !v.is_object())
+      (*r.mutable_metrics())[k] = v.is_string() ? v.get<std::string>() : v.dump();
+  return r;
+}
+
+grpc::Status StatusOf(const Error& e) {
+  std::string text = e.message;
+  google::rpc::BadRequest bad;
+  for (const auto& d : e.details) {
+    const std::string where = d.pointer.empty() ? "/" : d.pointer;
+    text += "\n" + where + ": " + (d.offset ? "offset " + std::to_string(*d.offset) + ": " : "") +
+            d.message;
+    auto* v = bad.add_field_violations();
+    v->set_field(where);
+    v->set_description(d.offset ? "offset " + std::to_string(*d.offset) + ": " + d.message
+                                : d.message);
+  }
+  if (!e.limit.empty()) text += "\nlimit: " + e.limit;
+  const grpc::StatusCode code = CodeOf(e.code);
+  if (e.details.empty()) return grpc::Status(code, text);
+  google::rpc::Status st;
+  st.set_code(static_cast<int>(code));
+  st.set_message(text);
+  st.add_details()->PackFrom(bad);
+  return grpc::Status(code, text, st.SerializeAsString());
+}
+
+}  // namespace ctb::grpcfront

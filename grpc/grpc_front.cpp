@@ -1,0 +1,314 @@
+#include "grpc/grpc_front.h"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "app/ids.h"
+#include "ctburton/v1/planner.grpc.pb.h"
+#include "grpc/convert.h"
+
+namespace ctb::grpcfront {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using grpc::ServerContext;
+using grpc::Status;
+
+std::optional<std::string> ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// "ipv4:127.0.0.1:5000" -> "ipv4:127.0.0.1"; "ipv6:[::1]:5000" -> "ipv6:[::1]".
+std::string PeerAddress(const std::string& peer) {
+  auto colon = peer.rfind(':');
+  return colon == std::string::npos || colon < 5 ? peer : peer.substr(0, colon);
+}
+
+// Forwards the core's improving plans to a stream as INTERMEDIATE results.
+class StreamObserver : public app::Observer {
+ public:
+  explicit StreamObserver(grpc::ServerWriter<pb::PlanResult>* w) : w_(w) {}
+  void OnSolution(const Json& progress) override { w_->Write(IntermediateOf(progress)); }
+
+ private:
+  grpc::ServerWriter<pb::PlanResult>* w_;
+};
+
+class PlannerService final : public pb::Planner::Service {
+ public:
+  PlannerService(app::Core& core, const app::ApiKeys* keys, int max_streams)
+      : core_(core), keys_(keys), max_streams_(max_streams) {}
+
+  Status Solve(ServerContext* c, const pb::SolveRequest* q, pb::PlanResult* r) override {
+    return Run(c, "Solve", [&]() -> Status { return DoSolve(c, *q, r, nullptr); });
+  }
+  Status SolveAnytime(ServerContext* c, const pb::SolveRequest* q,
+                      grpc::ServerWriter<pb::PlanResult>* w) override {
+    return RunStream(c, "SolveAnytime", [&]() -> Status {
+      StreamObserver obs(w);
+      pb::PlanResult r;
+      Status st = DoSolve(c, *q, &r, &obs);
+      if (st.ok()) w->Write(r);
+      return st;
+    });
+  }
+  Status Plan(ServerContext* c, const pb::PlanRequest* q, pb::PlanResult* r) override {
+    return Run(c, "Plan", [&]() -> Status { return DoPlan(c, *q, r, nullptr); });
+  }
+  Status PlanAnytime(ServerContext* c, const pb::PlanRequest* q,
+                     grpc::ServerWriter<pb::PlanResult>* w) override {
+    return RunStream(c, "PlanAnytime", [&]() -> Status {
+      StreamObserver obs(w);
+      pb::PlanResult r;
+      Status st = DoPlan(c, *q, &r, &obs);
+      if (st.ok()) w->Write(r);
+      return st;
+    });
+  }
+  Status Validate(ServerContext* c, const pb::SolveRequest* q, pb::ValidateResult* r) override {
+    return Run(c, "Validate", [&]() -> Status {
+      auto call = SolveCallOf(*q);
+      auto v = core_.Validate(call);
+      if (auto* e = std::get_if<Error>(&v)) return StatusOf(*e);
+      r->set_valid(true);
+      for (const auto& w : std::get<app::ValidateAnswer>(v).warnings) FromJson(w, r->add_warnings());
+      return Status::OK;
+    });
+  }
+  Status Translate(ServerContext* c, const pb::PlanRequest* q, pb::TranslateResult* r) override {
+    return Run(c, "Translate", [&]() -> Status {
+      app::TranslateCall call;
+      call.domain.name = q->domain();
+      call.command = q->command();
+      if (q->has_prompting()) call.prompting = q->prompting();
+      auto t = core_.Translate(call, Context(c, nullptr));
+      if (auto* e = std::get_if<Error>(&t)) return StatusOf(*e);
+      const auto& a = std::get<app::TranslateAnswer>(t);
+      FromJson(a.state_plan, r->mutable_state_plan());
+      r->set_reasoning(a.reasoning);
+      for (const auto& w : a.warnings) FromJson(w, r->add_warnings());
+      return Status::OK;
+    });
+  }
+  Status ListDomains(ServerContext* c, const pb::ListDomainsRequest*,
+                     pb::ListDomainsResult* r) override {
+    return Run(c, "ListDomains", [&]() -> Status {
+      for (const auto& d : core_.ListDomains()) {
+        auto* x = r->add_domains();
+        x->set_name(d.name);
+        x->set_description(d.description);
+        for (const auto& a : d.automata) x->add_automata(a);
+      }
+      return Status::OK;
+    });
+  }
+  Status GetDomain(ServerContext* c, const pb::GetDomainRequest* q, pb::ActionModel* r) override {
+    return Run(c, "GetDomain", [&]() -> Status {
+      auto d = core_.GetDomain(q->name());
+      if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
+      if (auto err = FromJson(std::get<Json>(d), r)) return Status(grpc::StatusCode::INTERNAL, *err);
+      return Status::OK;
+    });
+  }
+  Status GetSession(ServerContext* c, const pb::GetSessionRequest* q, pb::Session* r) override {
+    return Run(c, "GetSession", [&]() -> Status {
+      auto s = core_.GetSession(q->session());
+      if (auto* e = std::get_if<Error>(&s)) return StatusOf(*e);
+      FromJson(std::get<Json>(s), r);
+      return Status::OK;
+    });
+  }
+  Status DeleteSession(ServerContext* c, const pb::DeleteSessionRequest* q,
+                       pb::DeleteSessionResult*) override {
+    return Run(c, "DeleteSession", [&]() -> Status {
+      if (auto e = core_.DeleteSession(q->session())) return StatusOf(*e);
+      return Status::OK;
+    });
+  }
+  Status Replan(ServerContext* c, const pb::ReplanRequest*, pb::PlanResult*) override {
+    return Run(c, "Replan", [&]() -> Status {
+      return Status(grpc::StatusCode::UNIMPLEMENTED, "replanning is not in this build");
+    });
+  }
+
+  int in_flight() const { return in_flight_; }
+
+ private:
+  app::CallContext Context(ServerContext* c, app::Observer* obs) {
+    app::CallContext ctx;
+    ctx.observer = obs;
+    ctx.request_id = app::RandomHex(8);
+    const auto deadline = c->deadline();
+    ctx.cancelled = [c, deadline]() {
+      return c->IsCancelled() || std::chrono::system_clock::now() > deadline;
+    };
+    return ctx;
+  }
+
+  app::SolveCall SolveCallOf(const pb::SolveRequest& q) {
+    app::SolveCall call;
+    if (q.model_case() == pb::SolveRequest::kDomain) call.domain.name = q.domain();
+    if (q.model_case() == pb::SolveRequest::kActionModel) call.domain.action_model = ToJson(q.action_model());
+    if (q.has_state_plan()) call.state_plan = ToJson(q.state_plan());
+    if (q.has_options()) call.options = OptionsOf(q.options());
+    return call;
+  }
+
+  Status DoSolve(ServerContext* c, const pb::SolveRequest& q, pb::PlanResult* r,
+                 app::Observer* obs) {
+    auto s = core_.Solve(SolveCallOf(q), Context(c, obs));
+    if (auto* e = std::get_if<Error>(&s)) return StatusOf(*e);
+    *r = ResultOf(std::get<app::Answer>(s));
+    return Status::OK;
+  }
+
+  Status DoPlan(ServerContext* c, const pb::PlanRequest& q, pb::PlanResult* r, app::Observer* obs) {
+    app::PlanCall call;
+    if (!q.domain().empty()) call.domain = q.domain();
+    call.command = q.command();
+    if (q.has_prompting()) call.prompting = q.prompting();
+    if (q.has_session()) call.session = q.session();
+    if (q.has_options()) call.options = OptionsOf(q.options());
+    auto p = core_.Plan(call, Context(c, obs));
+    if (auto* e = std::get_if<Error>(&p)) return StatusOf(*e);
+    const auto& a = std::get<app::PlanAnswer>(p);
+    *r = ResultOf(a.answer);
+    r->set_session(a.session);
+    r->set_reasoning(a.translation.reasoning);
+    FromJson(a.translation.state_plan, r->mutable_state_plan());
+    for (const auto& w : a.translation.warnings) FromJson(w, r->add_warnings());
+    return Status::OK;
+  }
+
+  bool Authorized(ServerContext* c) {
+    if (!keys_) return true;
+    const auto& md = c->client_metadata();
+    auto it = md.find("authorization");
+    if (it == md.end()) return false;
+    return keys_->CheckHeader(std::string(it->second.data(), it->second.size()));
+  }
+
+  // Access control, in-flight count, metrics and a log line around one call.
+  template <typename F>
+  Status Run(ServerContext* c, const char* method, F&& fn) {
+    const auto t0 = Clock::now();
+    ++in_flight_;
+    Status st = Authorized(c) ? fn()
+                              : Status(grpc::StatusCode::UNAUTHENTICATED,
+                                       "this server needs an API key: send metadata "
+                                       "\"authorization: Bearer KEY\"");
+    --in_flight_;
+    const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+    const std::string route = std::string("grpc:") + method;
+    core_.metrics().Request(route, static_cast<int>(st.error_code()), secs);
+    spdlog::info("{}", Json({{"event", "grpc_call"}, {"method", method}, {"peer", c->peer()},
+                             {"code", static_cast<int>(st.error_code())},
+                             {"ms", std::lround(secs * 1000)}})
+                           .dump(-1, ' ', false, Json::error_handler_t::replace));
+    return st;
+  }
+
+  // Run() for streaming calls, within the per-client cap.
+  template <typename F>
+  Status RunStream(ServerContext* c, const char* method, F&& fn) {
+    const std::string peer = PeerAddress(c->peer());
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      if (streams_[peer] >= max_streams_)
+        return Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                      "too many streaming calls from this client at once (limit " +
+                          std::to_string(max_streams_) + ")");
+      ++streams_[peer];
+    }
+    Status st = Run(c, method, fn);
+    std::lock_guard<std::mutex> lock(mu_);
+    if (--streams_[peer] == 0) streams_.erase(peer);
+    return st;
+  }
+
+  app::Core& core_;
+  const app::ApiKeys* keys_;
+  const int max_streams_;
+  std::atomic<int> in_flight_{0};
+  std::mutex mu_;
+  std::map<std::string, int> streams_;
+};
+
+}  // namespace
+
+struct GrpcFrontEnd::Impl {
+  std::unique_ptr<PlannerService> service;
+  std::unique_ptr<grpc::Server> server;
+  int port = 0;
+  std::once_flag shutdown_once;
+  std::thread shutdown_thread;
+};
+
+GrpcFrontEnd::GrpcFrontEnd(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+GrpcFrontEnd::~GrpcFrontEnd() { Wait(); }
+
+std::variant<std::unique_ptr<GrpcFrontEnd>, std::string> GrpcFrontEnd::Start(
+    const GrpcOptions& o, app::Core& core, const app::ApiKeys* keys) {
+  std::shared_ptr<grpc::ServerCredentials> creds = grpc::InsecureServerCredentials();
+  if (!o.tls_cert.empty()) {
+    auto cert = ReadFile(o.tls_cert), key = ReadFile(o.tls_key);
+    if (!cert) return "cannot read the gRPC TLS certificate " + o.tls_cert;
+    if (!key) return "cannot read the gRPC TLS key " + o.tls_key;
+    grpc::SslServerCredentialsOptions ssl;
+    ssl.pem_key_cert_pairs.push_back({*key, *cert});
+    creds = grpc::SslServerCredentials(ssl);
+  }
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  auto impl = std::make_unique<Impl>();
+  impl->service = std::make_unique<PlannerService>(core, keys, o.max_streams_per_client);
+  grpc::ServerBuilder b;
+  const std::string host = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
+  b.AddListeningPort(host + ":" + std::to_string(o.port), creds, &impl->port);
+  b.RegisterService(impl->service.get());
+  b.SetMaxReceiveMessageSize(static_cast<int>(o.max_message_bytes));
+  impl->server = b.BuildAndStart();
+  if (!impl->server || impl->port == 0)
+    return "cannot serve gRPC on " + o.host + ":" + std::to_string(o.port);
+  auto* health = impl->server->GetHealthCheckService();
+  if (health) health->SetServingStatus("ctburton.v1.Planner", true);
+  return std::unique_ptr<GrpcFrontEnd>(new GrpcFrontEnd(std::move(impl)));
+}
+
+int GrpcFrontEnd::port() const { return impl_->port; }
+int GrpcFrontEnd::InFlight() const { return impl_->service->in_flight(); }
+
+void GrpcFrontEnd::BeginShutdown() {
+  std::call_once(impl_->shutdown_once, [this] {
+    if (auto* health = impl_->server->GetHealthCheckService()) health->Shutdown();
+    // Shutdown() waits for running calls up to the deadline, then cancels them: on a thread of
+    // its own so that the caller can drain the HTTP side meanwhile.
+    impl_->shutdown_thread = std::thread([this] {
+      impl_->server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    });
+  });
+}
+
+void GrpcFrontEnd::Wait() {
+  BeginShutdown();
+  if (impl_->shutdown_thread.joinable()) impl_->shutdown_thread.join();
+  impl_->server->Wait();
+}
+
+}  // namespace ctb::grpcfront

@@ -1,0 +1,413 @@
+#include "server/http_front.h"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "app/ids.h"
+#include "server/conn_watch.h"
+#include "server/limits.h"
+#include "server/log_context.h"
+#include "server/openapi_json.h"
+#include "server/stream.h"
+#include "translator/text.h"
+
+namespace ctb::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using app::Core;
+
+bool SaneRequestId(const std::string& id) {
+  if (id.empty() || id.size() > 64) return false;
+  for (char c : id)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
+      return false;
+  return true;
+}
+
+std::string Safe(const std::string& s) {
+  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+void SendJson(httplib::Response& res, int status, const Json& j) {
+  res.status = status;
+  // Text from an LLM or an upstream error may hold invalid UTF-8: replaced, never thrown.
+  res.set_content(j.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
+}
+
+// {"error": {"code", "message", "path"?, "details"?, "limit"?, "request_id"?}} with the code's
+// HTTP status.
+void SendError(httplib::Response& res, const Error& e) {
+  Json err = {{"code", CodeName(e.code)}, {"message", e.message}};
+  if (!e.limit.empty()) err["limit"] = Json::parse(e.limit, nullptr, false);
+  if (const std::string rid = res.get_header_value("X-Request-Id"); !rid.empty())
+    err["request_id"] = rid;
+  if (!e.details.empty()) {
+    err["path"] = e.details[0].pointer.empty() ? "/" : e.details[0].pointer;
+    Json details = Json::array();
+    for (const auto& d : e.details) {
+      Json x = {{"path", d.pointer.empty() ? "/" : d.pointer}, {"message", d.message}};
+      if (d.offset) x["offset"] = *d.offset;
+      details.push_back(x);
+    }
+    err["details"] = details;
+  }
+  if (e.code == ErrorCode::kBusy) res.set_header("Retry-After", "2");
+  if (e.code == ErrorCode::kUnauthenticated) res.set_header("WWW-Authenticate", "Bearer");
+  SendJson(res, HttpStatus(e.code), {{"error", err}});
+}
+
+Error Bad(const std::string& msg, const std::string& path) {
+  return {ErrorCode::kInvalidInput, msg, {{path, std::nullopt, msg}}};
+}
+
+// The request's keys must be among `allowed`.
+std::optional<Error> CheckKeys(const Json& body, std::initializer_list<std::string_view> allowed) {
+  Diagnostics d;
+  ObjectReader(body, "", d).CheckKeys(allowed);
+  if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid request", d);
+  return std::nullopt;
+}
+
+// An optional string field.
+std::variant<std::optional<std::string>, Error> OptString(const Json& body, const char* key,
+                                                          const std::string& message) {
+  if (!body.contains(key)) return std::optional<std::string>();
+  if (!body[key].is_string()) return Bad(message, std::string("/") + key);
+  return std::optional<std::string>(body[key].get<std::string>());
+}
+
+std::variant<app::DomainRef, Error> DomainOf(const Json& body) {
+  app::DomainRef ref;
+  auto name = OptString(body, "domain", "\"domain\" must be a string");
+  if (auto* e = std::get_if<Error>(&name)) return *e;
+  ref.name = std::get<std::optional<std::string>>(name);
+  if (body.contains("action_model")) ref.action_model = body["action_model"];
+  return ref;
+}
+
+std::variant<app::RequestOptions, Error> OptionsOf(const Json& body) {
+  if (!body.contains("options")) return app::RequestOptions{};
+  return app::ParseRequestOptions(body["options"]);
+}
+
+}  // namespace
+
+class HttpFrontEnd::Impl {
+ public:
+  Impl(const ServerConfig& cfg, Core& core, const app::ApiKeys* keys)
+      : cfg_(cfg), core_(core), keys_(keys) {
+    Routes();
+  }
+
+  int Bind() {
+    int port = cfg_.port == 0 ? svr_.bind_to_any_port(cfg_.host)
+                              : (svr_.bind_to_port(cfg_.host, cfg_.port) ? cfg_.port : -1);
+    if (port >= 0 && !svr_.RaiseBacklog())
+      spdlog::warn("{}", Safe("cannot raise the listen backlog; bursts of connections may wait"));
+    return port;
+  }
+  void Listen() { svr_.listen_after_bind(); }
+  void Stop() { svr_.stop(); }
+  int InFlight() const { return in_flight_; }
+  void SetDraining() { draining_ = true; }
+
+ private:
+  // Wraps a handler: access control, in-flight count, metrics, one JSON log line, a last-resort
+  // exception guard.
+  httplib::Server::Handler Wrap(const std::string& route,
+                                std::function<void(const httplib::Request&, httplib::Response&)> fn,
+                                bool needs_key = true) {
+    return [this, route, fn, needs_key](const httplib::Request& req, httplib::Response& res) {
+      auto t0 = Clock::now();
+      ++in_flight_;
+      SetThreadRequestId(res.get_header_value("X-Request-Id"));
+      try {
+        if (needs_key && keys_ && !keys_->CheckHeader(req.get_header_value("Authorization")))
+          SendError(res, {ErrorCode::kUnauthenticated,
+                          "this server needs an API key: send \"Authorization: Bearer KEY\"", {}});
+        else
+          fn(req, res);
+      } catch (const std::exception& e) {
+        spdlog::error("{}", Safe("unhandled exception in " + route + ": " + e.what()));
+        SendError(res, {ErrorCode::kInternal, "internal error", {}});
+      }
+      --in_flight_;
+      if (res.status == -1) res.status = 200;
+      double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+      core_.metrics().Request(route, res.status, secs);
+      spdlog::info("{}", Json({{"event", "request"}, {"method", req.method}, {"path", req.path},
+                               {"route", route}, {"status", res.status},
+                               {"ms", std::lround(secs * 1000)}})
+                             .dump(-1, ' ', false, Json::error_handler_t::replace));
+      SetThreadRequestId("");
+    };
+  }
+
+  // The body as a JSON object, or an error already sent.
+  std::optional<Json> Body(const httplib::Request& req, httplib::Response& res) {
+    // Before the JSON parser: its messages quote the input, and bytes that are not UTF-8 could
+    // not be sent back. A NUL is never part of a JSON text.
+    if (auto at = InvalidUtf8Offset(req.body)) {
+      const std::string where = "byte offset " + std::to_string(*at);
+      SendError(res, {ErrorCode::kInvalidInput, "request body is not valid UTF-8 (" + where + ")",
+                      {{"/", *at, "invalid UTF-8 at " + where}}});
+      return std::nullopt;
+    }
+    if (auto nul = req.body.find('\0'); nul != std::string::npos) {
+      const std::string where = "byte offset " + std::to_string(nul);
+      SendError(res, {ErrorCode::kInvalidInput, "request body contains a NUL byte (" + where + ")",
+                      {{"/", nul, "NUL byte at " + where}}});
+      return std::nullopt;
+    }
+    Diagnostics d;
+    ParseLimits limits;
+    limits.max_bytes = static_cast<std::size_t>(cfg_.max_body_bytes);
+    auto j = ParseJsonStrict(req.body, d, limits);
+    if (!j) {
+      SendError(res, Error::FromDiagnostics(ErrorCode::kInvalidInput, "request body is not valid JSON", d));
+      return std::nullopt;
+    }
+    if (!j->is_object()) {
+      SendError(res, Bad("request body must be a JSON object", "/"));
+      return std::nullopt;
+    }
+    return j;
+  }
+
+  // The call's context: the observer (streaming) and a cancel check that sees the client leave.
+  app::CallContext Context(const httplib::Request& req, app::Observer* observer) {
+    app::CallContext ctx;
+    ctx.observer = observer;
+    ctx.request_id = ThreadRequestId();
+    const int local_port = req.local_port, remote_port = req.remote_port;
+    const std::string rid = ctx.request_id;
+    ctx.cancelled = [local_port, remote_port, rid, logged = false]() mutable {
+      if (ClientConnected(local_port, remote_port)) return false;
+      if (!logged) {
+        SetThreadRequestId(rid);
+        spdlog::info("{}", Json({{"event", "client_gone"}, {"remote_port", remote_port}}).dump());
+        logged = true;
+      }
+      return true;
+    };
+    return ctx;
+  }
+
+  void HandleSolve(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"domain", "action_model", "state_plan", "options"})) return SendError(res, *e);
+    app::SolveCall call;
+    auto dom = DomainOf(*body);
+    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+    call.domain = std::get<app::DomainRef>(dom);
+    if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
+    auto opts = OptionsOf(*body);
+    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    call.options = std::get<app::RequestOptions>(opts);
+    auto r = core_.Solve(call, Context(req, obs));
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    SendJson(res, 200, std::get<app::Answer>(r).document);
+  }
+
+  void HandleValidate(const httplib::Request& req, httplib::Response& res) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"domain", "action_model", "state_plan"})) return SendError(res, *e);
+    app::SolveCall call;
+    auto dom = DomainOf(*body);
+    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+    call.domain = std::get<app::DomainRef>(dom);
+    if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
+    auto r = core_.Validate(call);
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    SendJson(res, 200, {{"valid", true}, {"warnings", std::get<app::ValidateAnswer>(r).warnings}});
+  }
+
+  void HandleTranslate(const httplib::Request& req, httplib::Response& res) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"domain", "command", "prompting"})) return SendError(res, *e);
+    app::TranslateCall call;
+    auto dom = DomainOf(*body);
+    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+    call.domain = std::get<app::DomainRef>(dom);
+    call.command = body->value("command", Json());
+    auto p = OptString(*body, "prompting", "\"prompting\" must be cot or direct");
+    if (auto* e = std::get_if<Error>(&p)) return SendError(res, *e);
+    call.prompting = std::get<std::optional<std::string>>(p);
+    auto r = core_.Translate(call, Context(req, nullptr));
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    const auto& t = std::get<app::TranslateAnswer>(r);
+    Json out = {{"state_plan", t.state_plan}, {"reasoning", t.reasoning}};
+    if (!t.warnings.empty()) out["warnings"] = t.warnings;
+    SendJson(res, 200, out);
+  }
+
+  void HandlePlan(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"domain", "command", "prompting", "session", "options"}))
+      return SendError(res, *e);
+    app::PlanCall call;
+    for (auto [key, out, msg] :
+         {std::tuple{"domain", &call.domain, "\"domain\" must be a string"},
+          std::tuple{"prompting", &call.prompting, "\"prompting\" must be cot or direct"},
+          std::tuple{"session", &call.session, "\"session\" must be a string"}}) {
+      auto v = OptString(*body, key, msg);
+      if (auto* e = std::get_if<Error>(&v)) return SendError(res, *e);
+      *out = std::get<std::optional<std::string>>(v);
+    }
+    call.command = body->value("command", Json());
+    auto opts = OptionsOf(*body);
+    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    call.options = std::get<app::RequestOptions>(opts);
+    auto r = core_.Plan(call, Context(req, obs));
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    const auto& p = std::get<app::PlanAnswer>(r);
+    Json out = {{"state_plan", p.translation.state_plan}, {"reasoning", p.translation.reasoning},
+                {"trajectory", p.answer.document}, {"session", p.session}};
+    if (!p.translation.warnings.empty()) out["warnings"] = p.translation.warnings;
+    SendJson(res, 200, out);
+  }
+
+  void SetUpServer() {
+    svr_.set_tcp_nodelay(true);  // headers and body go out in two writes: no 40 ms Nagle stall
+    svr_.set_read_timeout(cfg_.read_timeout_s, 0);
+    svr_.set_write_timeout(cfg_.write_timeout_s, 0);
+    svr_.set_payload_max_length(static_cast<std::size_t>(cfg_.max_body_bytes));
+    // Connections are admitted, timed and checked by GuardedServer (server/limits.h). The pool has
+    // more threads than admitted connections, so a refusal or /healthz never waits for a thread.
+    ConnectionLimits limits;
+    limits.per_address = cfg_.max_connections_per_address;
+    limits.total = cfg_.max_connections;
+    limits.head_timeout_ms = cfg_.read_timeout_s * 1000L;
+    limits.body_timeout_ms = cfg_.body_timeout_s * 1000L;
+    limits.keep_alive_ms = cfg_.keep_alive_s * 1000L;
+    limits.max_body_bytes = cfg_.max_body_bytes;
+    svr_.SetLimits(limits);
+    svr_.set_keep_alive_timeout(cfg_.keep_alive_s);
+    const int threads = cfg_.max_connections + 16;
+    svr_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    svr_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      std::string id = req.get_header_value("X-Request-Id");
+      res.set_header("X-Request-Id", SaneRequestId(id) ? id : app::RandomHex(8));
+      // Chunked bodies would dodge the length limit (cpp-httplib 0.11): refuse them.
+      if (req.has_header("Transfer-Encoding")) {
+        SendError(res, {ErrorCode::kTooLarge, "chunked request bodies are not accepted; send Content-Length", {}});
+        res.status = 411;
+        core_.metrics().Request("(refused)", 411, 0);
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      if (req.has_header("Content-Length") &&
+          std::atoll(req.get_header_value("Content-Length").c_str()) > cfg_.max_body_bytes) {
+        SendError(res, {ErrorCode::kTooLarge, "request body larger than " + std::to_string(cfg_.max_body_bytes) + " bytes", {}});
+        core_.metrics().Request("(refused)", 413, 0);
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      return httplib::Server::HandlerResponse::Unhandled;
+    });
+    svr_.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+      if (!res.body.empty()) return;
+      if (res.status == 414) {  // normally refused earlier, by GuardedServer
+        res.set_content(Json({{"error", {{"code", "uri_too_long"}, {"message", "request line too long"}}}}).dump(),
+                        "application/json");
+        return;
+      }
+      Error e{ErrorCode::kNotFound, "no such route", {}};
+      if (res.status == 413) e = {ErrorCode::kTooLarge, "request body too large", {}};
+      else if (res.status == 400) e = {ErrorCode::kInvalidInput, "malformed request", {}};
+      else if (res.status != 404) e = {ErrorCode::kInternal, "request failed", {}};
+      int status = res.status;
+      SendError(res, e);
+      res.status = status;
+    });
+  }
+
+  void Routes() {
+    SetUpServer();
+    svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleSolve(q2, s2, o); });
+    }));
+    svr_.Post("/validate", Wrap("/validate", [this](auto& q, auto& s) { HandleValidate(q, s); }));
+    svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));
+    svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
+    }));
+    svr_.Get("/domains", Wrap("/domains", [this](auto&, auto& s) {
+      Json list = Json::array();
+      for (const auto& d : core_.ListDomains())
+        list.push_back({{"name", d.name}, {"description", d.description}, {"automata", d.automata}});
+      SendJson(s, 200, {{"domains", list}});
+    }));
+    svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
+      auto r = core_.GetDomain(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
+    svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) {
+      auto r = core_.GetSession(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
+    svr_.Delete(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) {
+      if (auto e = core_.DeleteSession(q.matches[1])) return SendError(s, *e);
+      s.status = 204;
+    }));
+    svr_.Get("/openapi.json", Wrap("/openapi.json", [](auto&, auto& s) {
+      s.set_content(kOpenApiJson, sizeof kOpenApiJson - 1, "application/json");
+    }));
+    // For the web page: which LLM answers. With keys, a 401 here tells the page to ask for one.
+    svr_.Get("/info", Wrap("/info", [this](auto&, auto& s) {
+      SendJson(s, 200, {{"llm", {{"mode", core_.LlmMode()}, {"model", cfg_.llm.model}}},
+                        {"auth", keys_ ? "bearer" : "none"}});
+    }));
+    svr_.Get("/healthz", Wrap("/healthz", [](auto&, auto& s) { SendJson(s, 200, {{"status", "ok"}}); }, false));
+    svr_.Get("/readyz", Wrap("/readyz", [this](auto&, auto& s) {
+      if (draining_) return SendError(s, {ErrorCode::kUnavailable, "draining", {}});
+      if (!core_.SolverReady()) return SendError(s, {ErrorCode::kUnavailable, "minizinc is not runnable", {}});
+      SendJson(s, 200, {{"status", "ready"}});
+    }, false));
+    svr_.Get("/metrics", Wrap("/metrics", [this](auto&, auto& s) { s.set_content(MetricsText(), "text/plain; version=0.0.4"); }));
+    // Static files (the page) are served by httplib's file handler, outside Wrap(): count them.
+    svr_.set_file_request_handler([this](const httplib::Request&, httplib::Response& res) {
+      core_.metrics().Request("(static)", res.status == -1 ? 200 : res.status, 0);
+    });
+    if (!svr_.set_mount_point("/", cfg_.static_dir))
+      spdlog::warn("{}", Safe("static directory '" + cfg_.static_dir + "' not found: no web page"));
+  }
+
+  std::string MetricsText() {
+    return core_.metrics().Render() +
+           "# HELP ctb_connections_open Connections being served.\n# TYPE ctb_connections_open gauge\n"
+           "ctb_connections_open " + std::to_string(svr_.open_connections()) + "\n"
+           "# HELP ctb_connections_refused_total Connections refused over the per-address or total cap.\n"
+           "# TYPE ctb_connections_refused_total counter\n"
+           "ctb_connections_refused_total " + std::to_string(svr_.refused_connections()) + "\n"
+           "# HELP ctb_requests_timed_out_total Requests whose head or body did not arrive in time.\n"
+           "# TYPE ctb_requests_timed_out_total counter\n"
+           "ctb_requests_timed_out_total " + std::to_string(svr_.timed_out_requests()) + "\n";
+  }
+
+  const ServerConfig& cfg_;
+  Core& core_;
+  const app::ApiKeys* keys_;
+  GuardedServer svr_;
+  std::atomic<int> in_flight_{0};
+  std::atomic<bool> draining_{false};
+};
+
+HttpFrontEnd::HttpFrontEnd(const ServerConfig& cfg, app::Core& core, const app::ApiKeys* keys)
+    : impl_(std::make_unique<Impl>(cfg, core, keys)) {}
+HttpFrontEnd::~HttpFrontEnd() = default;
+int HttpFrontEnd::Bind() { return impl_->Bind(); }
+void HttpFrontEnd::Listen() { impl_->Listen(); }
+void HttpFrontEnd::Stop() { impl_->Stop(); }
+int HttpFrontEnd::InFlight() const { return impl_->InFlight(); }
+void HttpFrontEnd::SetDraining() { impl_->SetDraining(); }
+
+}  // namespace ctb::server

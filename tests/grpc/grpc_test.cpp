@@ -1,0 +1,389 @@
+// The gRPC front end (contract section 10) against the real server binary with the real
+// minizinc: statuses, streams, errors with pointers, deadlines and cancels that kill the solver,
+// health, reflection, API keys, and the same answer as HTTP.
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+#include <google/protobuf/util/json_util.h>
+
+#include <fstream>
+#include <thread>
+
+#include "ctburton/v1/planner.grpc.pb.h"
+#include "google/rpc/error_details.pb.h"
+#include "google/rpc/status.pb.h"
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "grpc/reflection/v1alpha/reflection.grpc.pb.h"
+#include "tests/server/harness.h"
+
+namespace {
+
+namespace pb = ::ctburton::v1;
+using ctb::testing::FreeLoopbackPort;
+using ctb::testing::ServerProcess;
+using nlohmann::json;
+
+std::string Src() { return CTB_TEST_SOURCE_DIR; }
+
+json ReadJson(const std::string& rel) {
+  std::ifstream in(Src() + "/" + rel);
+  return json::parse(in);
+}
+
+template <typename M>
+M FromJson(const json& j) {
+  M m;
+  google::protobuf::util::JsonParseOptions o;
+  EXPECT_TRUE(google::protobuf::util::JsonStringToMessage(j.dump(), &m, o).ok()) << j.dump();
+  return m;
+}
+
+// A server with both front ends; extra flags as given.
+struct GrpcServer {
+  explicit GrpcServer(std::vector<std::string> args = {}, json config = json::object())
+      : grpc_port(FreeLoopbackPort()),
+        proc(config, Args(args, grpc_port)),
+        channel(grpc::CreateChannel("127.0.0.1:" + std::to_string(grpc_port),
+                                    grpc::InsecureChannelCredentials())),
+        stub(pb::Planner::NewStub(channel)) {
+    EXPECT_TRUE(channel->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(10)));
+  }
+  static std::vector<std::string> Args(std::vector<std::string> a, int port) {
+    a.push_back("--grpc-port");
+    a.push_back(std::to_string(port));
+    return a;
+  }
+  int grpc_port;
+  ServerProcess proc;
+  std::shared_ptr<grpc::Channel> channel;
+  std::unique_ptr<pb::Planner::Stub> stub;
+};
+
+void Deadline(grpc::ClientContext& c, int ms) {
+  c.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(ms));
+}
+
+pb::SolveRequest SolveOf(const std::string& domain, const std::string& plan_file,
+                         const std::string& objective, int time_limit_ms = 30000,
+                         int max_horizon = -1) {
+  pb::SolveRequest q;
+  q.set_domain(domain);
+  *q.mutable_state_plan() = FromJson<pb::StatePlan>(ReadJson(plan_file));
+  q.mutable_options()->set_objective(objective);
+  q.mutable_options()->set_time_limit_ms(time_limit_ms);
+  if (max_horizon > 0) q.mutable_options()->set_max_horizon(max_horizon);
+  return q;
+}
+
+// The assembly test prompt, fastest, up to 64 events: its proof runs to the time limit.
+pb::SolveRequest LongSolve() {
+  return SolveOf("assembly", "config/examples/assembly/test.json", "makespan", 60000, 64);
+}
+
+// Waits up to `ms` for the server to have no solver child; true when it has none.
+bool SolversGone(const ServerProcess& p, int ms) {
+  for (int i = 0; i < ms / 50; ++i) {
+    if (p.Children("minizinc").empty() && p.Children("fzn-gecode").empty()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+bool SolverRunning(const ServerProcess& p, int ms) {
+  for (int i = 0; i < ms / 50; ++i) {
+    if (!p.Children("minizinc").empty() || !p.Children("fzn-gecode").empty()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+TEST(Grpc, SolveAShippedExampleOptimally) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  pb::PlanResult r;
+  auto st = s.stub->Solve(&c, SolveOf("presentation", "config/examples/presentation/test1_cot.json", "makespan"), &r);
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  EXPECT_EQ(r.status(), pb::SOLVED_OPTIMALLY);
+  EXPECT_TRUE(r.trajectory().verified());
+  EXPECT_EQ(r.trajectory().status(), "optimal");
+  EXPECT_GT(r.trajectory().transitions_size(), 3);
+  EXPECT_EQ(r.trajectory().timelines().count("proj"), 1u);
+  EXPECT_GT(r.trajectory().timelines().at("proj").segments_size(), 1);
+  EXPECT_TRUE(r.objective().has_number_value());
+  EXPECT_EQ(r.objective().number_value(), r.trajectory().goal_reached_at());
+  EXPECT_FALSE(r.metrics().at("solver").empty());
+  EXPECT_GT(r.state_plan_summary_size(), 0);
+}
+
+TEST(Grpc, AnInfeasibleExampleIsUnsolvableWithItsExplanation) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  pb::PlanResult r;
+  auto st = s.stub->Solve(&c, SolveOf("presentation", "tests/data/deadline_infeasible.json", "cost"), &r);
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  EXPECT_TRUE(r.status() == pb::UNSOLVABLE_PROVEN || r.status() == pb::UNSOLVABLE_INCOMPLETELY);
+  EXPECT_EQ(r.trajectory().status(), "infeasible");
+  ASSERT_GT(r.explanation().conflicts_size(), 0);
+  EXPECT_GT(r.explanation().conflicts(0).constraints_size(), 0);
+  EXPECT_FALSE(r.explanation().conflicts(0).text().empty());
+  // The proof's reach is stated, and agrees with the status.
+  const std::string reach = r.metrics().at("infeasible_for");
+  EXPECT_EQ(r.status() == pb::UNSOLVABLE_PROVEN, reach == "any_horizon") << reach;
+}
+
+TEST(Grpc, SolveAnytimeStreamsImprovingPlansThenTheFinalResult) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  Deadline(c, 60000);
+  auto reader = s.stub->SolveAnytime(&c, SolveOf("search_rescue", "config/examples/search_rescue/test1.json", "makespan"));
+  std::vector<pb::PlanResult> all;
+  pb::PlanResult r;
+  while (reader->Read(&r)) all.push_back(r);
+  auto st = reader->Finish();
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  ASSERT_GE(all.size(), 2u);
+  for (size_t i = 0; i + 1 < all.size(); ++i) EXPECT_EQ(all[i].status(), pb::INTERMEDIATE);
+  EXPECT_EQ(all.back().status(), pb::SOLVED_OPTIMALLY);
+  // Each improving plan is no worse than the one before, and the last one is the answer.
+  double prev = 1e18;
+  for (size_t i = 0; i + 1 < all.size(); ++i) {
+    ASSERT_TRUE(all[i].objective().has_number_value());
+    EXPECT_LE(all[i].objective().number_value(), prev);
+    prev = all[i].objective().number_value();
+  }
+  EXPECT_EQ(all.back().objective().number_value(), prev);
+}
+
+TEST(Grpc, PlanAnytimeFromTheRecordingsInDemoMode) {
+  GrpcServer s({"--demo"});
+  grpc::ClientContext c;
+  Deadline(c, 90000);
+  pb::PlanRequest q;
+  q.set_domain("presentation");
+  q.set_command(
+      "The computer and projector start in the off state, and the connection is disconnected. The "
+      "projector should turn on and stay on for 1800 seconds, following which everything should "
+      "turn off within 600 seconds. In addition, the projector should turn on within 60 seconds.");
+  auto reader = s.stub->PlanAnytime(&c, q);
+  std::vector<pb::PlanResult> all;
+  pb::PlanResult r;
+  while (reader->Read(&r)) all.push_back(r);
+  auto st = reader->Finish();
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  ASSERT_FALSE(all.empty());
+  const auto& last = all.back();
+  EXPECT_TRUE(last.status() == pb::SOLVED_OPTIMALLY || last.status() == pb::SOLVED_SATISFICING);
+  EXPECT_FALSE(last.session().empty());
+  EXPECT_FALSE(last.reasoning().empty());
+  EXPECT_EQ(last.state_plan().initial_state().at("proj"), "projOff");
+  EXPECT_TRUE(last.trajectory().verified());
+  // The session is there, over gRPC as over HTTP.
+  grpc::ClientContext c2;
+  pb::GetSessionRequest gq;
+  gq.set_session(last.session());
+  pb::Session sess;
+  ASSERT_TRUE(s.stub->GetSession(&c2, gq, &sess).ok());
+  EXPECT_EQ(sess.domain(), "presentation");
+  EXPECT_EQ(sess.turns().values_size(), 1);
+}
+
+TEST(Grpc, ValidateNamesEveryErrorByItsPointer) {
+  GrpcServer s;
+  json plan = ReadJson("config/examples/presentation/test1_cot.json");
+  plan["end_state"]["goal_constraint"] = "projl[i+1]==projOnn";
+  plan["initial_state"]["comp"] = "compNowhere";
+  pb::SolveRequest q;
+  q.set_domain("presentation");
+  *q.mutable_state_plan() = FromJson<pb::StatePlan>(plan);
+  grpc::ClientContext c;
+  pb::ValidateResult r;
+  auto st = s.stub->Validate(&c, q, &r);
+  ASSERT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(st.error_message().find("/state_plan/end_state/goal_constraint"), std::string::npos)
+      << st.error_message();
+  google::rpc::Status details;
+  ASSERT_TRUE(details.ParseFromString(st.error_details()));
+  ASSERT_EQ(details.details_size(), 1);
+  google::rpc::BadRequest bad;
+  ASSERT_TRUE(details.details(0).UnpackTo(&bad));
+  std::set<std::string> fields;
+  for (const auto& v : bad.field_violations()) fields.insert(v.field());
+  EXPECT_TRUE(fields.count("/state_plan/end_state/goal_constraint")) << bad.DebugString();
+  EXPECT_TRUE(fields.count("/state_plan/initial_state/comp")) << bad.DebugString();
+  // A valid plan validates.
+  pb::SolveRequest ok;
+  ok.set_domain("presentation");
+  *ok.mutable_state_plan() = FromJson<pb::StatePlan>(ReadJson("config/examples/presentation/test1_cot.json"));
+  grpc::ClientContext c2;
+  ASSERT_TRUE(s.stub->Validate(&c2, ok, &r).ok());
+  EXPECT_TRUE(r.valid());
+  // Unknown domain and bad options are errors too.
+  ok.set_domain("nosuch");
+  grpc::ClientContext c3;
+  EXPECT_EQ(s.stub->Validate(&c3, ok, &r).error_code(), grpc::StatusCode::NOT_FOUND);
+  pb::SolveRequest bad_opts = SolveOf("presentation", "config/examples/presentation/test1_cot.json", "fastest");
+  grpc::ClientContext c4;
+  pb::PlanResult pr;
+  auto st4 = s.stub->Solve(&c4, bad_opts, &pr);
+  EXPECT_EQ(st4.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(st4.error_message().find("/options/objective"), std::string::npos);
+}
+
+TEST(Grpc, AClientDeadlineKillsTheSolverWithinASecond) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  Deadline(c, 2000);
+  pb::PlanResult r;
+  auto t0 = std::chrono::steady_clock::now();
+  auto st = s.stub->Solve(&c, LongSolve(), &r);
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  EXPECT_TRUE(SolversGone(s.proc, 1500)) << "a solver outlived its client's deadline";
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  EXPECT_TRUE(s.proc.Alive());
+}
+
+TEST(Grpc, CancelMidStreamKillsTheSolver) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  auto reader = s.stub->SolveAnytime(&c, LongSolve());
+  pb::PlanResult r;
+  ASSERT_TRUE(reader->Read(&r));  // the first improving plan: the solve is under way
+  EXPECT_EQ(r.status(), pb::INTERMEDIATE);
+  ASSERT_TRUE(SolverRunning(s.proc, 5000));
+  c.TryCancel();
+  while (reader->Read(&r)) {
+  }
+  EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::CANCELLED);
+  EXPECT_TRUE(SolversGone(s.proc, 1500)) << "a solver outlived its cancelled stream";
+}
+
+TEST(Grpc, HealthAndReflectionAreOn) {
+  GrpcServer s;
+  auto health = grpc::health::v1::Health::NewStub(s.channel);
+  grpc::ClientContext c;
+  grpc::health::v1::HealthCheckRequest hq;
+  grpc::health::v1::HealthCheckResponse hr;
+  ASSERT_TRUE(health->Check(&c, hq, &hr).ok());
+  EXPECT_EQ(hr.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+  hq.set_service("ctburton.v1.Planner");
+  grpc::ClientContext c1;
+  ASSERT_TRUE(health->Check(&c1, hq, &hr).ok());
+  EXPECT_EQ(hr.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+
+  auto refl = grpc::reflection::v1alpha::ServerReflection::NewStub(s.channel);
+  grpc::ClientContext c2;
+  auto stream = refl->ServerReflectionInfo(&c2);
+  grpc::reflection::v1alpha::ServerReflectionRequest rq;
+  rq.set_list_services("*");
+  ASSERT_TRUE(stream->Write(rq));
+  stream->WritesDone();
+  grpc::reflection::v1alpha::ServerReflectionResponse rr;
+  ASSERT_TRUE(stream->Read(&rr));
+  std::set<std::string> names;
+  for (const auto& svc : rr.list_services_response().service()) names.insert(svc.name());
+  EXPECT_TRUE(names.count("ctburton.v1.Planner"));
+  EXPECT_TRUE(names.count("grpc.health.v1.Health"));
+  stream->Finish();
+}
+
+TEST(Grpc, ApiKeysGuardEveryMethodButHealth) {
+  const std::string keyfile = "/tmp/ctb-grpc-keys-" + std::to_string(getpid());
+  {
+    std::ofstream(keyfile) << "# test keys\nk-0123456789abcdef-first\n"
+                           << "sha256:" << "9b1c7d1f6f9dd0c2c7d9c8b4a3f6e2d1c0b9a8f7e6d5c4b3a2f1e0d9c8b7a6f5\n";
+  }
+  GrpcServer s({"--api-keys", keyfile});
+  pb::ListDomainsRequest q;
+  pb::ListDomainsResult r;
+  grpc::ClientContext none;
+  auto st = s.stub->ListDomains(&none, q, &r);
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  grpc::ClientContext wrong;
+  wrong.AddMetadata("authorization", "Bearer k-0123456789abcdef-firsT");
+  EXPECT_EQ(s.stub->ListDomains(&wrong, q, &r).error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  grpc::ClientContext right;
+  right.AddMetadata("authorization", "Bearer k-0123456789abcdef-first");
+  ASSERT_TRUE(s.stub->ListDomains(&right, q, &r).ok());
+  EXPECT_EQ(r.domains_size(), 3);
+  // Health needs no key.
+  auto health = grpc::health::v1::Health::NewStub(s.channel);
+  grpc::ClientContext hc;
+  grpc::health::v1::HealthCheckRequest hq;
+  grpc::health::v1::HealthCheckResponse hr;
+  EXPECT_TRUE(health->Check(&hc, hq, &hr).ok());
+  // HTTP: the same keys.
+  auto http = s.proc.Client();
+  auto a = http.Get("/domains");
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->status, 401);
+  EXPECT_EQ(json::parse(a->body)["error"]["code"], "unauthenticated");
+  auto b = http.Get("/domains", {{"Authorization", "Bearer k-0123456789abcdef-first"}});
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->status, 200);
+  auto h = http.Get("/healthz");
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->status, 200);
+  // The key never appears in the server's answers (it is never echoed).
+  EXPECT_EQ(a->body.find("k-0123456789abcdef"), std::string::npos);
+  std::remove(keyfile.c_str());
+}
+
+TEST(Grpc, KeysAreReReadOnSighup) {
+  const std::string keyfile = "/tmp/ctb-grpc-rotate-" + std::to_string(getpid());
+  { std::ofstream(keyfile) << "old-key-0123456789abcdef\n"; }
+  GrpcServer s({"--api-keys", keyfile});
+  auto list = [&](const std::string& key) {
+    grpc::ClientContext c;
+    c.AddMetadata("authorization", "Bearer " + key);
+    pb::ListDomainsResult r;
+    return s.stub->ListDomains(&c, pb::ListDomainsRequest(), &r).error_code();
+  };
+  EXPECT_EQ(list("old-key-0123456789abcdef"), grpc::StatusCode::OK);
+  { std::ofstream(keyfile) << "new-key-0123456789abcdef\n"; }
+  kill(s.proc.pid(), SIGHUP);
+  grpc::StatusCode after = grpc::StatusCode::OK;
+  for (int i = 0; i < 40 && after == grpc::StatusCode::OK; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    after = list("old-key-0123456789abcdef");
+  }
+  EXPECT_EQ(after, grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(list("new-key-0123456789abcdef"), grpc::StatusCode::OK);
+  std::remove(keyfile.c_str());
+}
+
+// One request, both front ends: the same plan, status and objective.
+TEST(Grpc, HttpAndGrpcGiveTheSameAnswer) {
+  GrpcServer s;
+  for (const auto& [domain, file, objective] :
+       {std::tuple{"presentation", "config/examples/presentation/test1_cot.json", "makespan"},
+        std::tuple{"search_rescue", "config/examples/search_rescue/test2.json", "cost"},
+        std::tuple{"presentation", "tests/data/deadline_infeasible.json", "cost"}}) {
+    json body = {{"domain", domain}, {"state_plan", ReadJson(file)},
+                 {"options", {{"objective", objective}, {"time_limit_ms", 30000}}}};
+    auto http = s.proc.Client().Post("/solve", body.dump(), "application/json");
+    ASSERT_TRUE(http);
+    ASSERT_EQ(http->status, 200) << http->body;
+    json h = json::parse(http->body);
+    grpc::ClientContext c;
+    pb::PlanResult g;
+    ASSERT_TRUE(s.stub->Solve(&c, SolveOf(domain, file, objective), &g).ok());
+    EXPECT_EQ(g.trajectory().status(), h["status"]) << file;
+    EXPECT_EQ(g.trajectory().verified(), h["verified"].get<bool>());
+    if (h["objective"]["value"].is_number())
+      EXPECT_EQ(g.objective().number_value(), h["objective"]["value"].get<double>()) << file;
+    ASSERT_EQ(g.trajectory().transitions_size(), static_cast<int>(h.value("transitions", json::array()).size()));
+    for (int i = 0; i < g.trajectory().transitions_size(); ++i) {
+      const auto& gt = g.trajectory().transitions(i);
+      const auto& ht = h["transitions"][i];
+      EXPECT_EQ(gt.automaton(), ht["automaton"]);
+      EXPECT_EQ(gt.from(), ht["from"]);
+      EXPECT_EQ(gt.to(), ht["to"]);
+      EXPECT_EQ(gt.time(), ht["time"].get<double>());
+    }
+    EXPECT_EQ(g.explanation().conflicts_size(),
+              static_cast<int>(h.value("explanation", json::object()).value("conflicts", json::array()).size()));
+    EXPECT_EQ(g.state_plan_summary_size(), static_cast<int>(h["state_plan_summary"].size()));
+  }
+}
+
+}  // namespace
