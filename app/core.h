@@ -122,7 +122,9 @@ struct Answer {
   // "any_horizon" when a static proof covers every number of events; "max_horizon" when the
   // proof holds up to the `horizon` statistic; "" unless infeasible.
   std::string infeasible_for;
-  std::map<std::string, std::string> metrics;  // solver, solve_ms, horizon, ... as text
+  // solver, solve_ms, horizon, ... as text; core_ms: the whole call inside the core (checks,
+  // gate, planner, summary, explanation), which front ends report (HTTP: Server-Timing).
+  std::map<std::string, std::string> metrics;
   Json document;                               // the whole trajectory answer (section 5, 9)
 };
 
@@ -176,6 +178,7 @@ class Core {
   struct Impl;  // opaque (app/core_impl.h)
 
  private:
+  std::variant<Answer, Error> SolveChecked(const SolveCall& call, const CallContext& ctx);
   explicit Core(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -224,6 +224,15 @@ std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StateP
 }
 
 std::variant<Answer, Error> Core::Solve(const SolveCall& call, const CallContext& ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = SolveChecked(call, ctx);
+  if (auto* a = std::get_if<Answer>(&r))
+    a->metrics["core_ms"] = std::to_string(std::chrono::duration<double, std::milli>(
+                                               std::chrono::steady_clock::now() - t0).count());
+  return r;
+}
+
+std::variant<Answer, Error> Core::SolveChecked(const SolveCall& call, const CallContext& ctx) {
   auto dom = impl_->ResolveDomain(call.domain);
   if (auto* e = std::get_if<Error>(&dom)) return *e;
   const Domain& domain = *std::get<std::shared_ptr<const Domain>>(dom);

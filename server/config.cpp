@@ -120,6 +120,15 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
   if (const char* v = std::getenv("CTB_DATA_DIR"); v && *v) c.data_dir = v;
   if (const char* v = std::getenv("CTB_SESSION_STORE"); v && *v) c.session_store = v;
   if (const char* v = std::getenv("CTB_API_KEYS"); v && *v) c.api_keys_file = v;
+  if (const char* v = std::getenv("CTB_GRPC_HOST"); v && *v) c.grpc_host = v;
+  if (const char* p = std::getenv("CTB_GRPC_PORT"); p && *p) {
+    char* end = nullptr;
+    errno = 0;
+    long v = std::strtol(p, &end, 10);
+    if (errno != 0 || *end != '\0' || v < -1 || v > 65535)
+      return Error{ErrorCode::kInvalidInput, "CTB_GRPC_PORT must be -1 (off) or a port 0..65535", {}};
+    c.grpc_port = static_cast<int>(v);
+  }
   if (const char* v = std::getenv("CTB_ALLOW_UNAUTHENTICATED"); v && std::string(v) == "1")
     c.allow_unauthenticated = true;
   auto llm = LlmConfig::FromEnv();

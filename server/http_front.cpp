@@ -211,7 +211,10 @@ class HttpFrontEnd::Impl {
     call.options = std::get<app::RequestOptions>(opts);
     auto r = core_.Solve(call, Context(req, obs));
     if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
-    SendJson(res, 200, std::get<app::Answer>(r).document);
+    const auto& a = std::get<app::Answer>(r);
+    if (auto t = a.metrics.find("core_ms"); t != a.metrics.end())
+      res.set_header("Server-Timing", "core;dur=" + t->second);
+    SendJson(res, 200, a.document);
   }
 
   void HandleValidate(const httplib::Request& req, httplib::Response& res) {

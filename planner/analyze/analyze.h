@@ -42,6 +42,9 @@ struct StaticConflict {
   std::vector<std::string> parts;  // JSON pointers of state-plan parts, a minimal set
   std::string text;                // one plain sentence
   std::optional<BoundHint> hint;
+  // Every bound of the parts with the least value the check no longer refutes (hint among them).
+  std::vector<BoundHint> hints;
+  // "any_horizon": every check here holds whatever the number of events.
 };
 
 // Every conflict the checks find, smallest sets first (parts of one conflict are not repeated

@@ -1,10 +1,12 @@
 #include "planner/explain/explain.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "planner/analyze/analyze.h"
 #include "planner/explain/summary.h"
@@ -119,11 +121,14 @@ class Explainer {
     std::vector<std::string> consistent;
     // Deletion filter: drop each part that the rest can do without.
     if (set.size() > 1 || !from_static) {
-      for (const std::string p : std::vector<std::string>(set)) {
+      for (const std::string& p : std::vector<std::string>(set)) {
         std::vector<std::string> rest;
         for (const auto& x : set)
           if (x != p) rest.push_back(x);
-        Verdict v = rest.empty() ? Verdict::kFeasible : Check(Only(rest));
+        // A static conflict is usually minimal: the whole plan without p, when feasible, shows
+        // the rest feasible too (it keeps more) and is the relaxation "drop p" at once.
+        if (from_static && !rest.empty()) CheckParts(Without(p));
+        Verdict v = rest.empty() ? Verdict::kFeasible : CheckParts(rest);
         if (v == Verdict::kInfeasible) {
           set = rest;
         } else if (v == Verdict::kUnknown) {
@@ -186,6 +191,26 @@ class Explainer {
     return std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - Clock::now()).count();
   }
 
+  std::vector<std::string> Without(const std::string& p) const {
+    std::vector<std::string> out;
+    for (const auto& x : parts_)
+      if (x != p) out.push_back(x);
+    return out;
+  }
+
+  // The state plan with only `keep` of the parts (bounds as given), checked once: a plan for a
+  // set of parts, cut at the first event at which a subset and the goal are met, is a plan for
+  // the subset, so every subset of a feasible set is feasible without a solve.
+  Verdict CheckParts(const std::vector<std::string>& keep) {
+    std::vector<std::string> sorted = keep;
+    std::sort(sorted.begin(), sorted.end());
+    for (const auto& f : feasible_)
+      if (std::includes(f.begin(), f.end(), sorted.begin(), sorted.end())) return Verdict::kFeasible;
+    Verdict v = Check(Only(keep));
+    if (v == Verdict::kFeasible) feasible_.push_back(sorted);
+    return v;
+  }
+
   // Solves a state plan given as JSON. `witness` receives the trajectory when feasible.
   Verdict Check(const Json& j, Json* witness = nullptr) {
     Diagnostics diags;
@@ -197,7 +222,32 @@ class Explainer {
     SolveOptions o = so_;
     o.time_limit_ms = left;
     ++calls_;
+    // Feasibility needs one verified plan, not an optimum: without a witness to return, the
+    // solve stops at the first plan it keeps (whole problems report each plan; the parts of a
+    // split one do not, and are solved to the end). The caller's cancel still applies.
+    std::atomic<bool> stop{false}, found{false}, done{false};
+    std::thread watch;
+    if (!witness) {
+      o.cancel = &stop;
+      o.on_progress = [&](const Json&) {
+        found = true;
+        stop = true;
+      };
+      o.decompose = false;
+      // One Gecode strategy: measured faster to a first plan than two sharing the cores
+      // (bench/results/impossible.md).
+      if (o.search == "portfolio") o.search = "g_first";
+      watch = std::thread([&] {
+        while (!done.load()) {
+          if (so_.cancel && so_.cancel->load()) stop = true;
+          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+      });
+    }
     auto r = Solve(d_, *sp, o);
+    done = true;
+    if (watch.joinable()) watch.join();
+    if (found.load()) return Verdict::kFeasible;
     if (!std::holds_alternative<Json>(r)) return Verdict::kUnknown;
     const Json& t = std::get<Json>(r);
     std::string status = t.value("status", "");
@@ -248,8 +298,7 @@ class Explainer {
     // A witness with the bound out of the way gives a feasible value.
     std::optional<double> good;
     if (hint && (upper ? *hint > hi : *hint < lo)) {
-      Json w;
-      if (Check(with(*hint), &w) == Verdict::kFeasible) good = *hint;
+      if (Check(with(*hint)) == Verdict::kFeasible) good = *hint;
     }
     if (!good) {
       Json w;
@@ -287,11 +336,16 @@ class Explainer {
   void Relax(const std::vector<std::string>& set, const std::optional<StaticConflict>& stat,
              Json& out) {
     std::vector<Candidate> cands;
+    // The static check's least values (the bounds it no longer refutes) when it found the set.
+    auto hint_for = [&](const std::string& bound) -> std::optional<double> {
+      if (!stat) return std::nullopt;
+      for (const auto& h : stat->hints)
+        if (h.pointer == bound) return h.value;
+      return std::nullopt;
+    };
     for (const auto& p : set) {
-      std::optional<double> hint;
-      if (stat && stat->hint && stat->hint->pointer == p + "/upper_bound") hint = stat->hint->value;
-      BoundCandidate(p, true, hint, cands);
-      BoundCandidate(p, false, std::nullopt, cands);
+      BoundCandidate(p, true, hint_for(p + "/upper_bound"), cands);
+      BoundCandidate(p, false, hint_for(p + "/lower_bound"), cands);
     }
     for (const auto& p : set) {
       Json j = base_;
@@ -299,7 +353,7 @@ class Explainer {
       // Dropping a part relaxes it further than any bound change: when one of its bounds could
       // be relaxed, the plan without it is feasible too (a plan for the relaxed bound, cut at the
       // first event at which the rest is met, is a plan for the rest). Else solve.
-      if (relaxable_.count(p) || Check(j) == Verdict::kFeasible)
+      if (relaxable_.count(p) || CheckParts(Without(p)) == Verdict::kFeasible)
         cands.push_back({Json::array({{{"pointer", p}, {"value", nullptr}}}),
                          "Drop " + PartName(p) + ".", 1e9 + cands.size()});
     }
@@ -318,6 +372,7 @@ class Explainer {
   const Json summary_;
   std::vector<std::string> parts_;
   std::set<std::string> relaxable_;  // parts with a bound relaxation shown feasible
+  std::vector<std::vector<std::string>> feasible_;  // sets of parts shown feasible (sorted)
   int calls_ = 0;
 };
 

@@ -22,7 +22,9 @@
 // set of parts shown feasible together.
 //
 // Solver calls use the caller's options (horizon, max_horizon, minizinc, cancel) with the cost
-// objective: feasibility does not depend on the objective. Never throws; thread-safe.
+// objective: feasibility does not depend on the objective. A check that needs no witness stops at
+// the first verified plan (one model, one Gecode strategy), and every set of parts shown feasible
+// answers for its subsets (docs/explain.md). Never throws; thread-safe.
 #pragma once
 
 #include <optional>

@@ -63,6 +63,12 @@ Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const
   return out;
 }
 
+// A solver's infeasible holds for at most max_horizon events (the horizon search's bound).
+Json WithScope(Json out) {
+  if (out.value("status", "") == "infeasible") out["infeasible_for"] = "max_horizon";
+  return out;
+}
+
 }  // namespace
 
 std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
@@ -146,7 +152,9 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
       Core c;
       c.status = "infeasible";
       stats["static_conflict"] = conflict->text;
-      return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
+      Json out = AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
+      out["infeasible_for"] = "any_horizon";
+      return out;
     }
   }
   if (o.decompose) {
@@ -154,14 +162,14 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     if (parts.size() > 1) {
       auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
       if (c && c->error) return *c->error;
-      if (c) return AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver);
+      if (c) return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
     }
   }
   SolveOptions mono = o;
   mono.time_limit_ms = std::max(1L, o.time_limit_ms - MsSince(t0));
   Core c = SolveOneModel(d, sp, mono);
   if (c.error) return *c.error;
-  return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
+  return WithScope(AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver));
 }
 
 }  // namespace ctb

@@ -387,3 +387,56 @@ TEST(Grpc, HttpAndGrpcGiveTheSameAnswer) {
 }
 
 }  // namespace
+
+namespace {
+
+// The scaled profile's proxy (docker/nginx.conf) in miniature: nginx with grpc_pass over HTTP/2
+// to two replicas; a stream through it reaches a replica and comes back whole.
+TEST(Grpc, AStreamThroughNginxReachesAReplica) {
+  ASSERT_TRUE(ctb::testing::Executable("/usr/sbin/nginx")) << "nginx missing: bash scripts/install-deps.sh --test";
+  const std::string dir = "/tmp/ctb-grpc-nginx-" + std::to_string(getpid());
+  for (const char* sub : {"body", "proxy", "fastcgi", "uwsgi", "scgi", "logs"}) {
+    std::filesystem::create_directories(dir + "/" + sub);
+    chmod((dir + "/" + sub).c_str(), 0777);
+  }
+  GrpcServer r1, r2;
+  const int proxy = FreeLoopbackPort();
+  std::ofstream(dir + "/nginx.conf")
+      << "daemon off;\nworker_processes 1;\npid " << dir << "/nginx.pid;\nerror_log " << dir
+      << "/logs/error.log;\nevents { worker_connections 256; }\nhttp {\n  access_log off;\n"
+      << "  client_body_temp_path " << dir << "/body;\n  proxy_temp_path " << dir << "/proxy;\n"
+      << "  fastcgi_temp_path " << dir << "/fastcgi;\n  uwsgi_temp_path " << dir << "/uwsgi;\n"
+      << "  scgi_temp_path " << dir << "/scgi;\n"
+      << "  upstream ctb_grpc {\n    server 127.0.0.1:" << r1.grpc_port << ";\n    server 127.0.0.1:"
+      << r2.grpc_port << ";\n  }\n"
+      << "  server {\n    listen 127.0.0.1:" << proxy << " http2;\n    location / {\n"
+      << "      grpc_pass grpc://ctb_grpc;\n      grpc_read_timeout 120s;\n    }\n  }\n}\n";
+  pid_t nginx = ctb::testing::Spawn({"/usr/sbin/nginx", "-p", dir, "-c", dir + "/nginx.conf"},
+                                    dir + "/nginx.out");
+  ASSERT_TRUE(ctb::testing::WaitForPort(proxy, 5000)) << "nginx did not start";
+  auto channel = grpc::CreateChannel("127.0.0.1:" + std::to_string(proxy), grpc::InsecureChannelCredentials());
+  auto stub = pb::Planner::NewStub(channel);
+  for (int round = 0; round < 2; ++round) {  // round robin: each replica gets one
+    grpc::ClientContext c;
+    Deadline(c, 60000);
+    auto reader = stub->SolveAnytime(&c, SolveOf("search_rescue", "config/examples/search_rescue/test1.json", "makespan"));
+    std::vector<pb::PlanResult> all;
+    pb::PlanResult r;
+    while (reader->Read(&r)) all.push_back(r);
+    auto st = reader->Finish();
+    ASSERT_TRUE(st.ok()) << st.error_message();
+    ASSERT_GE(all.size(), 2u);
+    EXPECT_EQ(all.front().status(), pb::INTERMEDIATE);
+    EXPECT_EQ(all.back().status(), pb::SOLVED_OPTIMALLY);
+  }
+  int served = 0;
+  for (auto* s : {&r1, &r2}) {
+    auto m = s->proc.Client().Get("/metrics");
+    if (m && m->body.find("route=\"grpc:SolveAnytime\"") != std::string::npos) ++served;
+  }
+  EXPECT_EQ(served, 2) << "both replicas served a stream through nginx";
+  ctb::testing::StopChild(nginx);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace

@@ -18,3 +18,4 @@ CTB_DATA_DIR="$data" "$BIN" serve --port "$port" --grpc-port "$gport" --demo \
 pid=$!
 trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$data"' EXIT
 PYTHONPATH="$OUT" $PY "$SRC/tests/grpc/client.py" "127.0.0.1:$gport" "$SRC"
+PYTHONPATH="$OUT" $PY "$SRC/tests/grpc/schema_agreement.py" "$SRC/server/openapi.json"

@@ -152,5 +152,56 @@ TEST(Analyze, ShortestTimeFollowsLowerDurations) {
   EXPECT_EQ(ShortestTime(d, sp, proj, p.LocationIndex("projOff"), p.LocationIndex("projOn")), 30);
 }
 
+
+// The time network (issue 20): the three impossible requests of the issue, proven for any number
+// of events, with the parts on the negative cycle and the least bounds it no longer refutes.
+StatePlan Impossible(const std::string& domain, const std::string& name) {
+  return testing::ShippedStatePlan(domain, testing::ConfigDir() + "/examples/" + domain + "/" + name);
+}
+
+std::optional<double> HintFor(const StaticConflict& c, const std::string& pointer) {
+  for (const auto& h : c.hints)
+    if (h.pointer == pointer) return h.value;
+  return std::nullopt;
+}
+
+TEST(Analyze, OffWithinLessThanTheCoolDownAfterLeavingOn) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto c = FindStaticConflict(d, Impossible("presentation", "impossible_off_within59.json"));
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->kind, "time_network");
+  EXPECT_EQ(Parts(c), std::set<std::string>{"/constraints/temporal/OffWithin59"});
+  EXPECT_EQ(HintFor(*c, "/constraints/temporal/OffWithin59/upper_bound"), 60);
+}
+
+TEST(Analyze, OnForLongerThanTheDeadlineAfterWarmUpAllows) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = Impossible("presentation", "impossible_on1800_off1500.json");
+  auto c = FindStaticConflict(d, sp);
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c->kind, "time_network");
+  EXPECT_EQ(Parts(c), (std::set<std::string>{"/constraints/episodes/ProjectorOnDuration",
+                                             "/constraints/temporal/OffWithin1500OfWarmUp"}));
+  // 30 s warm-up + 1800 s on + 60 s cool-down.
+  EXPECT_EQ(HintFor(*c, "/constraints/temporal/OffWithin1500OfWarmUp/upper_bound"), 1890);
+  EXPECT_EQ(HintFor(*c, "/constraints/episodes/ProjectorOnDuration/lower_bound"), 1410);
+  // At 1890 s the network has nothing to say.
+  sp.temporals[0].upper = 1890;
+  EXPECT_FALSE(FindStaticConflict(d, sp));
+}
+
+TEST(Analyze, DoorKeptShutAndARescueDeadline) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  StatePlan sp = Impossible("search_rescue", "impossible_door_shut_deadline.json");
+  auto c = FindStaticConflict(d, sp);
+  ASSERT_TRUE(c);
+  EXPECT_EQ(Parts(c), (std::set<std::string>{"/constraints/temporal/RescueWithin12",
+                                             "/end_state/maintenance_constraint"}));
+  // Door 2 opens 1 s after a robot reaches it (10 s), then 2 s to person 1.
+  EXPECT_EQ(HintFor(*c, "/constraints/temporal/RescueWithin12/upper_bound"), 13);
+  sp.temporals[0].upper = 13;
+  EXPECT_FALSE(FindStaticConflict(d, sp));
+}
+
 }  // namespace
 }  // namespace ctb

@@ -7,7 +7,11 @@
 
 #include <functional>
 #include <optional>
+#include <iostream>
+#include <map>
+#include <set>
 
+#include "planner/analyze/analyze.h"
 #include "planner/analyze/earliest.h"
 #include "planner/solve/bounds.h"
 #include "planner/solve/solve.h"
@@ -249,6 +253,58 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
   EXPECT_GE(compared, 40);
   EXPECT_GE(feasible, 10);
   EXPECT_GE(infeasible, 3);
+}
+
+
+// Near misses (issue 20): the loosest tightened variant of each bound, and each forbidden
+// location, that static analysis refutes must have no plan with at most 3 events by enumeration.
+TEST(BruteForce, NearMissesProvenStaticallyHaveNoPlan) {
+  testing::RandomShape shape;
+  shape.min_automata = 1;
+  shape.max_automata = 2;
+  shape.max_locations = 2;
+  shape.max_duration = 2;
+  shape.max_bound = 3;
+  shape.shared_events = false;
+  int checked = 0;
+  std::map<std::string, int> kinds;
+  for (unsigned seed = 1000; seed < 1100 && checked < 10; ++seed) {
+    testing::ProblemGenerator gen(seed, shape);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto base = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(base) << testing::AllErrors(diags) << p.Describe();
+    if (base->episodes.size() + base->temporals.size() > 2 || FindStaticConflict(*d, *base))
+      continue;
+    std::set<std::string> done;
+    for (const auto& v : testing::NearMissVariants(p.domain, p.state_plan, 3)) {
+      if (done.count(v.pointer) && v.pointer.find("maintenance") == std::string::npos) continue;
+      auto sp = LoadStatePlan(v.state_plan, *d, diags);
+      if (!sp) continue;
+      auto c = FindStaticConflict(*d, *sp);
+      if (!c) continue;
+      done.insert(v.pointer);
+      if (c->kind == "never_holds" && kinds["never_holds"] >= 5) continue;  // mostly the others
+      long lower_sum = 0, max_lo = 0;
+      for (const auto& e : sp->episodes) lower_sum += static_cast<long>(e.lower);
+      for (const auto& q : sp->temporals) lower_sum += static_cast<long>(q.lower);
+      for (const auto& a : d->automata)
+        for (const auto& t : a.transitions) max_lo = std::max(max_lo, static_cast<long>(t.duration.lo));
+      const long time_bound = lower_sum + kMaxEvents * max_lo + 1;
+      if (time_bound > 10) continue;  // keep the enumeration to seconds
+      Enumerator en(*d, *sp, time_bound);
+      EXPECT_FALSE(en.Run()) << "seed " << seed << " " << v.what << ": static analysis says "
+                             << c->kind << ": " << c->text << "\n" << v.state_plan.dump()
+                             << "\n" << p.domain.dump();
+      ++checked;
+      ++kinds[c->kind];
+    }
+  }
+  for (const auto& [k, n] : kinds) std::cout << k << ": " << n << "\n";
+  EXPECT_GE(checked, 8);
+  EXPECT_GE(kinds["time_network"] + kinds["deadline"], 2);
 }
 
 }  // namespace

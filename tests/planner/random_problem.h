@@ -191,4 +191,52 @@ class ProblemGenerator {
   std::vector<int> initial_;
 };
 
+// Near-miss impossible requests (issue 20) made from a state plan: every deadline made earlier
+// (each temporal constraint's upper bound at every value from its own down to 0), every episode
+// made longer (its lower and upper bounds raised by 1..`raise`), and every location forbidden on
+// every stage by the maintenance constraint. A test keeps those that a proof route calls
+// infeasible and checks them against the others; the one unit between the least refuted and the
+// greatest allowed bound is where an unsound rule shows.
+struct NearMiss {
+  std::string what;  // "T0/upper_bound=3", "E1 longer by 2", "maintenance al[i]!=aL1"
+  std::string pointer;  // the bound or part changed
+  Json state_plan;
+};
+
+inline std::vector<NearMiss> NearMissVariants(const Json& domain, const Json& state_plan,
+                                              int raise = 6) {
+  std::vector<NearMiss> out;
+  const Json& c = state_plan["constraints"];
+  for (const auto& [name, t] : c["temporal"].items()) {
+    for (int u = t["upper_bound"].get<int>() - 1; u >= 0; --u) {
+      Json sp = state_plan;
+      Json& x = sp["constraints"]["temporal"][name];
+      x["upper_bound"] = u;
+      if (x["lower_bound"].get<int>() > u) x["lower_bound"] = u;
+      out.push_back({name + "/upper_bound=" + std::to_string(u),
+                     "/constraints/temporal/" + name + "/upper_bound", sp});
+    }
+  }
+  for (const auto& [name, e] : c["episodes"].items()) {
+    for (int k = 1; k <= raise; ++k) {
+      Json sp = state_plan;
+      Json& x = sp["constraints"]["episodes"][name];
+      x["lower_bound"] = e["lower_bound"].get<int>() + k;
+      x["upper_bound"] = e["upper_bound"].get<int>() + k;
+      out.push_back({name + " longer by " + std::to_string(k),
+                     "/constraints/episodes/" + name + "/lower_bound", sp});
+    }
+  }
+  if (state_plan["end_state"]["maintenance_constraint"] == "true") {
+    for (const auto& a : domain["automata"])
+      for (const auto& l : a["locations"]) {
+        Json sp = state_plan;
+        const std::string m = a["name"].get<std::string>() + "l[i]!=" + l.get<std::string>();
+        sp["end_state"]["maintenance_constraint"] = m;
+        out.push_back({"maintenance " + m, "/end_state/maintenance_constraint", sp});
+      }
+  }
+  return out;
+}
+
 }  // namespace ctb::testing

@@ -250,4 +250,46 @@ class ServerProcess {
   pid_t pid_ = -1;
 };
 
+// --- other processes: redis-server, nginx, a replica (the replica and gRPC suites) ---
+
+inline bool Executable(const char* path) { return access(path, X_OK) == 0; }
+
+inline pid_t Spawn(const std::vector<std::string>& args, const std::string& log) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+inline void StopChild(pid_t pid) {
+  if (pid <= 0) return;
+  kill(pid, SIGTERM);
+  for (int i = 0; i < 250; ++i) {
+    if (waitpid(pid, nullptr, WNOHANG) == pid) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+}
+
+inline bool WaitForPort(int port, long ms) {
+  for (long t = 0; t < ms; t += 25) {
+    int s = ConnectFrom(port);
+    if (s >= 0) {
+      close(s);
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  return false;
+}
+
 }  // namespace ctb::testing

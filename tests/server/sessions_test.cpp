@@ -162,45 +162,10 @@ TEST(Sessions, TheCapAndTheOptionsAreCheckedBeforeAnyLlmCall) {
 
 // --- replicas: redis-server + two `ctburton serve` + nginx, all on free loopback ports ---
 
-bool Executable(const char* path) { return access(path, X_OK) == 0; }
-
-pid_t Spawn(const std::vector<std::string>& args, const std::string& log) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-void StopChild(pid_t pid) {
-  if (pid <= 0) return;
-  kill(pid, SIGTERM);
-  for (int i = 0; i < 250; ++i) {
-    if (waitpid(pid, nullptr, WNOHANG) == pid) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-}
-
-bool WaitForPort(int port, long ms) {
-  for (long t = 0; t < ms; t += 25) {
-    int s = testing::ConnectFrom(port);
-    if (s >= 0) {
-      close(s);
-      return true;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(25));
-  }
-  return false;
-}
+using testing::Executable;
+using testing::Spawn;
+using testing::StopChild;
+using testing::WaitForPort;
 
 // Solver processes of a killed replica are reparented to this test (a subreaper): kill and reap.
 void KillOrphanedSolvers() {

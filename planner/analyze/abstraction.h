@@ -1,0 +1,194 @@
+// Internal to planner/analyze: the over-approximation of the runs that the static checks and the
+// time network reason on (analyze.h describes it; docs/explain.md gives the argument). Not a
+// public header: the types change with the checks.
+#pragma once
+
+#include <algorithm>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "planner/model/domain.h"
+#include "planner/model/state_plan.h"
+
+namespace ctb::analysis {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline constexpr long kSearchBudget = 200000;  // nodes per satisfiability question; beyond: "maybe"
+
+enum class Tv { kFalse, kTrue, kUnknown };
+
+inline Tv Not(Tv a) { return a == Tv::kUnknown ? a : (a == Tv::kTrue ? Tv::kFalse : Tv::kTrue); }
+inline Tv And(Tv a, Tv b) {
+  if (a == Tv::kFalse || b == Tv::kFalse) return Tv::kFalse;
+  if (a == Tv::kTrue && b == Tv::kTrue) return Tv::kTrue;
+  return Tv::kUnknown;
+}
+inline Tv Or(Tv a, Tv b) { return Not(And(Not(a), Not(b))); }
+
+// One automaton's situation at an event: the location on the stage before and after it.
+struct Opt {
+  int prev = 0, next = 0;
+};
+
+// One condition to satisfy at an event. `change`: [i] reads the stage before the event (an
+// accepting condition that describes a change); otherwise every index reads the stage after it.
+struct Term {
+  const Expr* e = nullptr;
+  bool change = false;
+};
+
+inline Term AtEvent(const Condition& c) { return {&c.raw, c.raw_info.IsChange()}; }
+inline Term OnStage(const Condition& c) { return {&c.raw, false}; }
+
+// Satisfiability of a conjunction of terms over per-automaton option lists, by depth-first
+// search with three-valued evaluation. Atoms over commands, accepting automata and fixed stages
+// other than 0 are unknown, so "unsatisfiable" is a proof and "satisfiable" may be a guess.
+class SatSearch {
+ public:
+  SatSearch(const std::vector<int>& init, const std::vector<std::vector<Opt>>& opts,
+            const std::vector<Term>& terms)
+      : init_(init), opts_(opts), terms_(terms), pick_(opts.size(), -1) {
+    std::set<int> read;
+    for (const auto& t : terms) Collect(*t.e, read);
+    order_.assign(read.begin(), read.end());
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](int a, int b) { return opts_[a].size() < opts_[b].size(); });
+  }
+
+  // True unless no assignment can satisfy every term. With fix_a >= 0, that automaton is pinned
+  // to option fix_o.
+  bool Run(int fix_a = -1, int fix_o = -1) {
+    budget_ = kSearchBudget;
+    std::fill(pick_.begin(), pick_.end(), -1);
+    if (fix_a >= 0) pick_[fix_a] = fix_o;
+    return Dfs(0);
+  }
+
+  const std::vector<int>& order() const { return order_; }
+
+ private:
+  static void Collect(const Expr& e, std::set<int>& out) {
+    if (e.op == Expr::Op::kAtom) {
+      if (e.var_kind == VarKind::kLocation) out.insert(e.target);
+      return;
+    }
+    for (const auto& k : e.kids) Collect(k, out);
+  }
+
+  Tv Eval(const Expr& e, bool change) const {
+    switch (e.op) {
+      case Expr::Op::kTrue: return Tv::kTrue;
+      case Expr::Op::kFalse: return Tv::kFalse;
+      case Expr::Op::kNot: return Not(Eval(e.kids[0], change));
+      case Expr::Op::kAnd: return And(Eval(e.kids[0], change), Eval(e.kids[1], change));
+      case Expr::Op::kOr: return Or(Eval(e.kids[0], change), Eval(e.kids[1], change));
+      case Expr::Op::kImplies: return Or(Not(Eval(e.kids[0], change)), Eval(e.kids[1], change));
+      case Expr::Op::kIff: {
+        Tv a = Eval(e.kids[0], change), b = Eval(e.kids[1], change);
+        if (a == Tv::kUnknown || b == Tv::kUnknown) return Tv::kUnknown;
+        return a == b ? Tv::kTrue : Tv::kFalse;
+      }
+      case Expr::Op::kAtom: break;
+    }
+    if (e.var_kind != VarKind::kLocation) return Tv::kUnknown;
+    int value;
+    if (e.index.kind == IndexKind::kFixed) {
+      if (e.index.fixed != 0) return Tv::kUnknown;
+      value = init_[e.target];
+    } else {
+      int p = pick_[e.target];
+      if (p < 0) return Tv::kUnknown;
+      const Opt& o = opts_[e.target][p];
+      value = (change && e.index.kind == IndexKind::kI) ? o.prev : o.next;
+    }
+    return (value == e.value_code) != e.not_equal ? Tv::kTrue : Tv::kFalse;
+  }
+
+  Tv EvalAll() const {
+    Tv r = Tv::kTrue;
+    for (const auto& t : terms_) {
+      r = And(r, Eval(*t.e, t.change));
+      if (r == Tv::kFalse) break;
+    }
+    return r;
+  }
+
+  bool Dfs(std::size_t k) {
+    if (--budget_ < 0) return true;  // out of budget: cannot prove anything
+    Tv now = EvalAll();
+    if (now == Tv::kFalse) return false;
+    if (now == Tv::kTrue) return true;
+    while (k < order_.size() && pick_[order_[k]] >= 0) ++k;
+    if (k == order_.size()) return true;  // unknown atoms only: may hold
+    int a = order_[k];
+    for (int o = 0; o < static_cast<int>(opts_[a].size()); ++o) {
+      pick_[a] = o;
+      if (Dfs(k + 1)) {
+        pick_[a] = -1;
+        return true;
+      }
+    }
+    pick_[a] = -1;
+    return false;
+  }
+
+  const std::vector<int>& init_;
+  const std::vector<std::vector<Opt>>& opts_;
+  const std::vector<Term>& terms_;
+  std::vector<int> pick_;
+  std::vector<int> order_;
+  long budget_ = 0;
+};
+
+// The over-approximation of the runs (see the header), optionally under a maintenance
+// constraint that every stage before the goal event must satisfy.
+struct Abstraction {
+  const Domain* d = nullptr;
+  std::vector<int> init;
+  bool only_initial = false;                 // the maintenance constraint fails on stage 0
+  std::vector<std::vector<char>> reach;      // [a][l]: on some stage up to the goal event
+  std::vector<std::vector<char>> usable;     // [a][t]: can fire at some event up to the goal
+  std::vector<std::vector<Opt>> event_opts;  // per automaton: stays and usable transitions
+  std::vector<std::vector<Opt>> stage_opts;  // per automaton: reachable locations
+  std::vector<std::vector<double>> dist;     // [a][from * n + to]: least time between entries
+
+  double Dist(int a, int from, int to) const {
+    const int n = static_cast<int>(d->automata[a].locations.size());
+    return dist[a][from * n + to];
+  }
+  // Least time from a stage in `from` (entered at that event when `entered`, else earlier) to
+  // a later stage in `to`: when `from` was entered earlier, its first transition's lower
+  // duration may have elapsed already.
+  double Gap(int a, int from, bool entered, int to) const {
+    if (from == to) return 0;
+    if (entered) return Dist(a, from, to);
+    double best = kInf;
+    const Automaton& au = d->automata[a];
+    for (std::size_t t = 0; t < au.transitions.size(); ++t)
+      if (usable[a][t] && au.transitions[t].from == from)
+        best = std::min(best, Dist(a, au.transitions[t].to, to));
+    return best;
+  }
+};
+
+std::vector<std::vector<Opt>> StageOpts(const std::vector<std::vector<char>>& reach);
+
+// allowed[a][l]: the locations the maintenance constraint admits (all when null).
+Abstraction Build(const Domain& d, const StatePlan& sp,
+                  const std::vector<std::vector<char>>* allowed);
+
+// Whether the terms can hold together at one event of the abstraction.
+bool MayHold(const Abstraction& ab, const std::vector<Term>& terms);
+
+// For each automaton, the options (at one event) compatible with the terms; automata the terms
+// do not read keep every option.
+std::vector<std::vector<Opt>> Project(const Abstraction& ab, const std::vector<Term>& terms);
+
+// Least time from an event at which `from` holds to a later (or the same) event at which `to`
+// holds.
+double LeastGap(const Abstraction& ab, const std::vector<std::vector<Opt>>& from,
+                const std::vector<std::vector<Opt>>& to);
+
+}  // namespace ctb::analysis
