@@ -58,6 +58,10 @@ struct SessionStoreConfig {
 // Opens (and creates) the store, or an Error naming what failed.
 std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c);
 
+// Reads "redis://host:port/db" (host defaults to 127.0.0.1, port 6379, db 0); an Error
+// (kInvalidInput) for anything else.
+std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, int& port, int& db);
+
 std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_sessions, long idle_s,
                                               std::string& error);
 std::unique_ptr<SessionStore> OpenRedisStore(const std::string& host, int port, int db, long max_sessions,

@@ -176,6 +176,31 @@ std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_
   return std::make_unique<SqliteStore>(db, path, max_sessions, idle_s);
 }
 
+std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, int& port, int& db) {
+  const std::string prefix = "redis://";
+  if (url.rfind(prefix, 0) != 0)
+    return Error{ErrorCode::kInvalidInput, "session store must be \"sqlite\" or redis://host:port/db", {}};
+  std::string rest = url.substr(prefix.size());
+  db = 0;
+  if (auto slash = rest.find('/'); slash != std::string::npos) {
+    const std::string d = rest.substr(slash + 1);
+    if (!d.empty() && (d.size() > 3 || d.find_first_not_of("0123456789") != std::string::npos))
+      return Error{ErrorCode::kInvalidInput, "redis database must be a small number", {}};
+    if (!d.empty()) db = std::stoi(d);
+    rest = rest.substr(0, slash);
+  }
+  port = 6379;
+  if (auto colon = rest.rfind(':'); colon != std::string::npos) {
+    const std::string p = rest.substr(colon + 1);
+    if (p.empty() || p.size() > 5 || p.find_first_not_of("0123456789") != std::string::npos || std::stoi(p) > 65535)
+      return Error{ErrorCode::kInvalidInput, "redis port must be 1..65535", {}};
+    port = std::stoi(p);
+    rest = rest.substr(0, colon);
+  }
+  host = rest.empty() ? "127.0.0.1" : rest;
+  return std::nullopt;
+}
+
 std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c) {
   std::string error;
   if (c.url == "memory") {  // the CLI's local mode: sessions die with the process
@@ -190,29 +215,10 @@ std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const Sessio
     if (!s) return Error{ErrorCode::kUnavailable, error, {}};
     return s;
   }
-  // redis://host:port/db
-  const std::string prefix = "redis://";
-  if (c.url.rfind(prefix, 0) != 0)
-    return Error{ErrorCode::kInvalidInput, "session store must be \"sqlite\" or redis://host:port/db", {}};
-  std::string rest = c.url.substr(prefix.size());
-  int db = 0;
-  if (auto slash = rest.find('/'); slash != std::string::npos) {
-    const std::string d = rest.substr(slash + 1);
-    if (!d.empty() && (d.size() > 3 || d.find_first_not_of("0123456789") != std::string::npos))
-      return Error{ErrorCode::kInvalidInput, "redis database must be a small number", {}};
-    if (!d.empty()) db = std::stoi(d);
-    rest = rest.substr(0, slash);
-  }
-  int port = 6379;
-  if (auto colon = rest.rfind(':'); colon != std::string::npos) {
-    const std::string p = rest.substr(colon + 1);
-    if (p.empty() || p.size() > 5 || p.find_first_not_of("0123456789") != std::string::npos || std::stoi(p) > 65535)
-      return Error{ErrorCode::kInvalidInput, "redis port must be 1..65535", {}};
-    port = std::stoi(p);
-    rest = rest.substr(0, colon);
-  }
-  if (rest.empty()) rest = "127.0.0.1";
-  auto s = OpenRedisStore(rest, port, db, c.max_sessions, c.idle_s, error);
+  std::string host;
+  int port = 6379, db = 0;
+  if (auto e = ParseRedisUrl(c.url, host, port, db)) return *e;
+  auto s = OpenRedisStore(host, port, db, c.max_sessions, c.idle_s, error);
   if (!s) return Error{ErrorCode::kUnavailable, error, {}};
   return s;
 }

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddSchema(app));
   runners.push_back(ctb::cli::AddReplan(app));
   runners.push_back(ctb::cli::AddExecute(app));
+  runners.push_back(ctb::cli::AddDomain(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

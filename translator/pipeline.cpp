@@ -1,5 +1,6 @@
 #include "translator/pipeline.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -59,7 +60,63 @@ std::string Seconds(double s) {
   return Json(s).dump();
 }
 
+// One example pair as the prompt shows it.
+std::string ExamplePair(const Json& pair, Prompting prompting) {
+  std::string out = "Natural language input:\n" + pair["command"].get<std::string>() + "\n\n";
+  if (prompting == Prompting::kCot && pair.contains("reasoning") && pair["reasoning"].is_string())
+    out += "Extracted:\n" + pair["reasoning"].get<std::string>() + "\n\n";
+  return out + "state_plan.json:\n" + pair["state_plan"].dump(2) + "\n\n";
+}
+
+// The pairs of prompts/examples/<name>.json that are usable.
+std::vector<Json> ExamplePairs(const std::string& path) {
+  std::vector<Json> out;
+  auto text = ReadText(path);
+  if (!text) return out;
+  Diagnostics ed;
+  auto j = ParseJsonStrict(*text, ed);
+  if (!j || !j->is_array()) return out;
+  for (const auto& pair : *j)
+    if (pair.is_object() && pair.contains("command") && pair["command"].is_string() &&
+        pair.contains("state_plan") && pair["state_plan"].is_object())
+      out.push_back(pair);
+  return out;
+}
+
 }  // namespace
+
+std::string PromptExamples(const Domain& d, const std::string& prompts_dir, Prompting prompting) {
+  std::string examples;
+  for (const auto& pair : ExamplePairs(prompts_dir + "/examples/" + d.name + ".json"))
+    examples += ExamplePair(pair, prompting);
+  if (!examples.empty()) return examples;
+  // A domain nobody wrote examples for: the first example of every shipped domain, each
+  // introduced by a label naming its domain and its automata (contract section 12).
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(prompts_dir + "/examples", ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  for (const auto& file : files) {
+    std::string other = std::filesystem::path(file).stem().string();
+    if (other == d.name) continue;
+    auto pairs = ExamplePairs(file);
+    if (pairs.empty()) continue;
+    std::string automata;
+    if (pairs[0]["state_plan"].contains("initial_state") &&
+        pairs[0]["state_plan"]["initial_state"].is_object())
+      for (const auto& [k, v] : pairs[0]["state_plan"]["initial_state"].items())
+        automata += (automata.empty() ? "" : ", ") + k;
+    examples += "Example from another domain, \"" + other + "\" (its automata " + automata +
+                " belong to that domain only, not to \"" + d.name + "\"):\n\n" +
+                ExamplePair(pairs[0], prompting);
+  }
+  if (examples.empty()) return "(no examples for this domain)\n";
+  return "The domain \"" + d.name +
+         "\" has no examples of its own. The examples below come from other domains and show the "
+         "format only: use only the automata, locations and commands of \"" + d.name +
+         "\" described above.\n\n" + examples;
+}
 
 std::string DescribeDomain(const Domain& d) {
   std::string out = "Action model \"" + d.name + "\"" +
@@ -191,22 +248,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   if (command.empty() || command.size() > 8000)
     return Error{ErrorCode::kInvalidInput, "the command must have 1 to 8000 characters",
                  {{"/command", std::nullopt, "empty or too long"}}};
-  // In-context examples of the domain (a new domain works without any).
-  std::string examples;
-  if (auto ex = load("examples/" + d.name + ".json")) {
-    Diagnostics ed;
-    auto j = ParseJsonStrict(*ex, ed);
-    if (j && j->is_array())
-      for (const auto& pair : *j) {
-        if (!pair.is_object() || !pair.contains("command") || !pair.contains("state_plan")) continue;
-        examples += "Natural language input:\n" + pair["command"].get<std::string>() + "\n\n";
-        if (o.prompting == Prompting::kCot && pair.contains("reasoning"))
-          examples += "Extracted:\n" + pair["reasoning"].get<std::string>() + "\n\n";
-        examples += "state_plan.json:\n" + pair["state_plan"].dump(2) + "\n\n";
-      }
-  }
-  if (examples.empty()) examples = "(no examples for this domain)\n";
-
+  std::string examples = PromptExamples(d, dir, o.prompting);
   TranslateResult result;
   std::vector<ChatMessage> msgs = o.history;
   if (msgs.empty())

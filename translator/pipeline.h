@@ -46,6 +46,11 @@ std::string DefaultPromptsDir();
 // The compact description of a domain given to the LLM, generated from its JSON.
 std::string DescribeDomain(const Domain& d);
 
+// The in-context examples of the prompt: the domain's own (prompts_dir/examples/<name>.json), or,
+// for a domain with none, the first example of each other domain there, each introduced by a
+// label naming that domain and its automata.
+std::string PromptExamples(const Domain& d, const std::string& prompts_dir, Prompting prompting);
+
 // The warnings of a result as the contract's JSON: [{"path"?, "message"}].
 Json WarningsJson(const std::vector<Diagnostic>& warnings);
 

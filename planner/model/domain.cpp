@@ -6,6 +6,7 @@
 #include <set>
 
 #include "planner/model/expr_check.h"
+#include "planner/model/templates.h"
 
 namespace ctb {
 
@@ -189,7 +190,10 @@ void ReadTransition(const Json& j, const std::string& p, const Domain& d, int se
 
 }  // namespace
 
-std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
+namespace {
+
+// A document without templates (contract section 2).
+std::optional<Domain> LoadPlainDomain(const Json& j, Diagnostics& diags) {
   std::size_t errors_before = diags.errors().size();
   ObjectReader r(j, "", diags);
   if (!r.valid()) return std::nullopt;
@@ -274,6 +278,28 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
                      d, static_cast<int>(i), d.automata[i], diags);
   }
   if (diags.errors().size() > errors_before) return std::nullopt;
+  return d;
+}
+
+}  // namespace
+
+std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
+  return LoadDomain(j, diags, ExpandOptions{}, nullptr);
+}
+
+std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const ExpandOptions& options,
+                                 Expansion* expansion) {
+  auto x = ExpandTemplates(j, diags, options);
+  if (!x) return std::nullopt;
+  std::optional<Domain> d;
+  if (!x->had_templates) {
+    d = LoadPlainDomain(j, diags);
+  } else {
+    Diagnostics expanded;
+    d = LoadPlainDomain(x->document, expanded);
+    MapDiagnostics(*x, j, expanded, diags);
+  }
+  if (expansion) *expansion = std::move(*x);
   return d;
 }
 

@@ -9,6 +9,7 @@
 #include "planner/expr/expr.h"
 #include "planner/expr/expr_info.h"
 #include "planner/model/json_io.h"
+#include "planner/model/templates.h"
 
 namespace ctb {
 
@@ -50,9 +51,15 @@ struct Domain {
   int AutomatonIndex(const std::string& n) const;  // -1 when absent
 };
 
-// Loads and checks a domain. On any error returns nullopt with every problem in diags, each at
-// the JSON pointer of the offending value (and the offset inside a guard string). Never throws.
+// Loads and checks a domain. Templates (templates.h) are expanded first, with the parameters'
+// declared values; errors in a template point at the template and name the instance. On any
+// error returns nullopt with every problem in diags, each at the JSON pointer of the offending
+// value (and the offset inside a guard string). Never throws.
 std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags);
+// The same with template parameters overridden; *expansion (when given) receives the expanded
+// document, also when the domain does not load (unless the expansion itself failed).
+std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const ExpandOptions& options,
+                                 Expansion* expansion = nullptr);
 std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags);
 
 // Serializes a loaded domain back to the contract's JSON (for GET /domains/{name}).

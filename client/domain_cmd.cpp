@@ -1,0 +1,173 @@
+// `ctburton domain check|expand|draw|draft`: action models as files (docs/domains.md).
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "client/commands.h"
+#include "planner/diagram/diagram.h"
+#include "planner/model/catalog.h"
+#include "planner/model/templates.h"
+#include "translator/draft.h"
+#include "translator/text.h"
+
+namespace ctb::cli {
+
+namespace {
+
+struct DomainOptions {
+  std::string file;
+  std::string config_dir;
+  std::vector<std::string> set;  // NAME=VALUE parameter overrides
+  std::string out;
+  std::string description;
+  int max_repairs = -1;
+};
+
+// Reads FILE (a path) or a shipped domain NAME, expands it with the overrides, loads it. Prints
+// the errors and returns 1 (bad input) on failure.
+int Load(const DomainOptions& o, Expansion& x, std::optional<Domain>& d) {
+  std::string path = o.file;
+  if (path.find('/') == std::string::npos && path.find(".json") == std::string::npos)
+    path = (o.config_dir.empty() ? DefaultConfigDir() : o.config_dir) + "/domains/" + path + ".json";
+  Diagnostics diags;
+  auto j = ReadJsonFile(path, diags);
+  ExpandOptions eo;
+  for (const auto& s : o.set) {
+    auto eq = s.find('=');
+    long v = 0;
+    bool ok = eq != std::string::npos && eq > 0;
+    if (ok) {
+      try {
+        std::size_t used = 0;
+        v = std::stol(s.substr(eq + 1), &used);
+        ok = used == s.size() - eq - 1;
+      } catch (const std::exception&) {
+        ok = false;
+      }
+    }
+    if (!ok) {
+      std::cerr << "error: --set wants NAME=INTEGER, got '" << s << "'\n";
+      return 2;
+    }
+    eo.parameters[s.substr(0, eq)] = v;
+  }
+  if (j) d = LoadDomain(*j, diags, eo, &x);
+  if (!diags.ok()) {
+    std::cout << "invalid: " << o.file << "\n";
+    for (const auto& e : diags.errors()) std::cout << ValidUtf8(e.ToString()) << "\n";
+    return 1;
+  }
+  for (const auto& w : diags.warnings()) std::cerr << "warning: " << ValidUtf8(w.ToString()) << "\n";
+  return 0;
+}
+
+int Write(const DomainOptions& o, const std::string& text) {
+  if (o.out.empty() || o.out == "-") {
+    std::cout << text;
+    return 0;
+  }
+  std::ofstream f(o.out, std::ios::binary);
+  f << text;
+  if (!f) {
+    std::cerr << "error: cannot write '" << o.out << "'\n";
+    return 3;
+  }
+  return 0;
+}
+
+int RunCheck(const DomainOptions& o) {
+  Expansion x;
+  std::optional<Domain> d;
+  if (int rc = Load(o, x, d)) return rc;
+  std::size_t locations = 0, transitions = 0;
+  for (const auto& a : d->automata) {
+    locations += a.locations.size();
+    transitions += a.transitions.size();
+  }
+  std::cout << "valid: " << d->name << " (" << d->automata.size() << " automata, " << locations
+            << " locations, " << transitions << " transitions"
+            << (x.had_templates ? ", from templates" : "") << ")\n";
+  return 0;
+}
+
+int RunExpand(const DomainOptions& o) {
+  Expansion x;
+  std::optional<Domain> d;
+  if (int rc = Load(o, x, d)) return rc;
+  return Write(o, x.document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+}
+
+int RunDraw(const DomainOptions& o) {
+  Expansion x;
+  std::optional<Domain> d;
+  if (int rc = Load(o, x, d)) return rc;
+  return Write(o, DomainSvg(*d));
+}
+
+int RunDraft(const DomainOptions& o) {
+  auto cfg = LlmConfig::FromEnv();
+  if (auto* e = std::get_if<Error>(&cfg)) {
+    PrintError(*e);
+    return ExitCodeFor(e->code);
+  }
+  auto client = MakeClient(std::get<LlmConfig>(cfg));
+  if (auto* e = std::get_if<Error>(&client)) {
+    PrintError(*e);
+    return ExitCodeFor(e->code);
+  }
+  DraftOptions dopt;
+  dopt.max_repairs = o.max_repairs >= 0 ? o.max_repairs : std::get<LlmConfig>(cfg).max_repairs;
+  auto r = Draft(o.description, *std::get<std::unique_ptr<LlmClient>>(client), dopt);
+  if (auto* e = std::get_if<Error>(&r)) {
+    PrintError(*e);
+    return ExitCodeFor(e->code);
+  }
+  const DraftResult& dr = std::get<DraftResult>(r);
+  if (!o.out.empty() && o.out != "-") {
+    std::ofstream f(o.out, std::ios::binary);
+    f << dr.action_model.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+    if (!f) {
+      std::cerr << "error: cannot write '" << o.out << "'\n";
+      return 3;
+    }
+  }
+  std::cout << DraftJson(dr).dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+Runner AddDomain(CLI::App& app) {
+  auto o = std::make_shared<DomainOptions>();
+  CLI::App* dom = app.add_subcommand("domain", "Check, expand, draw or draft an action model");
+  dom->require_subcommand(1);
+  auto file_cmd = [&](const char* name, const char* help) {
+    CLI::App* sub = dom->add_subcommand(name, help);
+    sub->add_option("file", o->file, "Domain JSON file (templates allowed) or a shipped name")
+        ->required();
+    sub->add_option("--set", o->set, "Override a template parameter: NAME=INTEGER (repeatable)");
+    sub->add_option("--config-dir", o->config_dir, "Configuration directory");
+    return sub;
+  };
+  CLI::App* check = file_cmd("check", "Check a domain; located errors, exit 1 when invalid");
+  CLI::App* expand = file_cmd("expand", "Print the domain with its templates expanded");
+  expand->add_option("-o,--out", o->out, "Write to this file instead of stdout");
+  CLI::App* draw = file_cmd("draw", "Draw the domain's automata as SVG");
+  draw->add_option("-o,--out", o->out, "Write to this file instead of stdout");
+  CLI::App* draft = dom->add_subcommand("draft", "Draft an action model from a description (LLM)");
+  draft->add_option("description", o->description, "The team in plain words")->required();
+  draft->add_option("-o,--out", o->out, "Also write the drafted action model to this file");
+  draft->add_option("--max-repairs", o->max_repairs, "Repair requests (default CTB_LLM_MAX_REPAIRS)");
+  return [o, dom, check, expand, draw, draft]() {
+    if (!dom->parsed()) return -1;
+    if (check->parsed()) return RunCheck(*o);
+    if (expand->parsed()) return RunExpand(*o);
+    if (draw->parsed()) return RunDraw(*o);
+    if (draft->parsed()) return RunDraft(*o);
+    return 2;
+  };
+}
+
+}  // namespace ctb::cli

@@ -1,0 +1,161 @@
+#include "translator/draft.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "planner/model/domain.h"
+#include "translator/extract.h"
+#include "translator/pipeline.h"
+#include "translator/text.h"
+
+namespace ctb {
+
+namespace {
+
+constexpr std::size_t kMaxQuotedAnswer = 12000;
+constexpr std::size_t kMaxListedProblems = 40;
+
+std::optional<std::string> ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string Fill(std::string text, const std::string& key, const std::string& value) {
+  const std::string k = "{{" + key + "}}";
+  std::size_t at = text.find(k);
+  if (at != std::string::npos) text.replace(at, k.size(), value);
+  return text;
+}
+
+struct Checked {
+  std::optional<Json> model;         // the action model, when it loads
+  Json answer;                       // the wrapper object, when one was read
+  std::vector<Diagnostic> errors;    // pointers inside the action model ("" for the answer)
+  std::vector<Diagnostic> warnings;
+};
+
+Checked CheckDraft(const ChatResponse& r) {
+  Checked c;
+  for (const auto& n : r.notes) c.warnings.push_back({"", std::nullopt, n});
+  if (r.content.find_first_not_of(" \t\r\n") == std::string::npos) {
+    c.errors.push_back({"", std::nullopt,
+                        r.refusal.empty() ? "the answer was empty"
+                                          : "the model refused: \"" + Cut(r.refusal, 200) + "\""});
+    return c;
+  }
+  Extraction x = ExtractJson(r.content);
+  c.warnings.insert(c.warnings.end(), x.notes.begin(), x.notes.end());
+  if (!x.json) {
+    c.errors = x.errors;
+    return c;
+  }
+  if (!x.json->is_object()) {
+    c.errors.push_back({"", std::nullopt, std::string("expected a JSON object, got ") +
+                                              JsonTypeName(*x.json)});
+    return c;
+  }
+  Json model;
+  if (x.json->contains("action_model")) {
+    c.answer = *x.json;
+    model = (*x.json)["action_model"];
+  } else if (x.json->contains("automata")) {
+    // The model alone: taken, and said.
+    model = *x.json;
+    c.answer = {{"action_model", model}};
+    c.warnings.push_back({"", std::nullopt,
+                          "the answer held the action model alone, without restatement or questions"});
+  } else {
+    c.errors.push_back({"", std::nullopt, "the answer has no \"action_model\""});
+    return c;
+  }
+  Diagnostics diags;
+  auto d = LoadDomain(model, diags);
+  for (const auto& e : diags.errors()) {
+    Diagnostic q = e;
+    q.message = ValidUtf8(q.message);
+    c.errors.push_back(std::move(q));
+  }
+  for (const auto& w : diags.warnings()) c.warnings.push_back(w);
+  if (d && diags.ok()) c.model = model;
+  return c;
+}
+
+std::string ListErrors(const std::vector<Diagnostic>& errors) {
+  std::string out;
+  for (std::size_t i = 0; i < errors.size() && i < kMaxListedProblems; ++i)
+    out += Cut(errors[i].ToString(), 400) + "\n";
+  if (errors.size() > kMaxListedProblems)
+    out += "(and " + std::to_string(errors.size() - kMaxListedProblems) + " more)\n";
+  return out;
+}
+
+}  // namespace
+
+std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient& llm,
+                                       const DraftOptions& o) {
+  if (description.find_first_not_of(" \t\r\n") == std::string::npos || description.size() > 8000)
+    return Error{ErrorCode::kInvalidInput, "the description must have 1 to 8000 characters",
+                 {{"/description", std::nullopt, "empty or too long"}}};
+  const std::string dir = o.prompts_dir.empty() ? DefaultPromptsDir() : o.prompts_dir;
+  auto system = ReadText(dir + "/draft.txt"), user = ReadText(dir + "/draft_user.txt"),
+       repair = ReadText(dir + "/draft_repair.txt");
+  if (!system || !user || !repair)
+    return Error{ErrorCode::kInternal, "draft prompt files missing in '" + dir + "'", {}};
+  DraftResult result;
+  std::vector<ChatMessage> msgs = {{"system", *system},
+                                   {"user", Fill(*user, "description", ValidUtf8(description))}};
+  auto ask = [&]() -> std::variant<ChatResponse, Error> {
+    ChatRequest req;
+    req.messages = msgs;
+    req.json_mode = o.json_mode;
+    ++result.llm_calls;
+    auto r = llm.Complete(req);
+    if (auto* e = std::get_if<Error>(&r)) return *e;
+    msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
+    return r;
+  };
+  auto answer = ask();
+  if (auto* e = std::get_if<Error>(&answer)) return *e;
+  Checked c = CheckDraft(std::get<ChatResponse>(answer));
+  while (!c.errors.empty() && result.repairs < o.max_repairs) {
+    ++result.repairs;
+    msgs.push_back({"user", Fill(*repair, "errors", ListErrors(c.errors))});
+    answer = ask();
+    if (auto* e = std::get_if<Error>(&answer)) return *e;
+    c = CheckDraft(std::get<ChatResponse>(answer));
+  }
+  if (!c.errors.empty())
+    return Error{ErrorCode::kUnprocessable,
+                 "the LLM's action model is still invalid after " + std::to_string(result.repairs) +
+                     " repair request(s)",
+                 c.errors};
+  result.action_model = *c.model;
+  result.warnings = c.warnings;
+  const Json& a = c.answer;
+  if (a.contains("restatement") && a["restatement"].is_string()) {
+    result.restatement = ValidUtf8(a["restatement"].get<std::string>());
+  } else {
+    result.warnings.push_back({"/restatement", std::nullopt, "the answer had no restatement"});
+  }
+  if (a.contains("questions") && a["questions"].is_array()) {
+    for (const auto& q : a["questions"])
+      if (q.is_string() && !q.get<std::string>().empty())
+        result.questions.push_back(ValidUtf8(Cut(q.get<std::string>(), 1000)));
+  } else if (a.contains("questions")) {
+    result.warnings.push_back({"/questions", std::nullopt, "questions was not a list; ignored"});
+  }
+  return result;
+}
+
+Json DraftJson(const DraftResult& r) {
+  Json out = {{"action_model", r.action_model},
+              {"restatement", r.restatement},
+              {"questions", r.questions}};
+  if (!r.warnings.empty()) out["warnings"] = WarningsJson(r.warnings);
+  return out;
+}
+
+}  // namespace ctb
