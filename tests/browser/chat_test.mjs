@@ -272,10 +272,11 @@ try {
   await page.unroute(`**/sessions/${sessionId}`);
 
   // --- Live progress before the answer; Stop cancels the solver ---
-  // search_rescue example 2 (makespan): a first plan within seconds, the proof of optimality later.
-  await page.selectOption("#domain", "search_rescue");
+  // The assembly example (makespan): the first-plan engine's plan at once, the exact engines'
+  // proof of optimality much later (search_rescue is now proven at once).
+  await page.selectOption("#domain", "assembly");
   const n0 = await page.locator(".turn").count();
-  await page.locator(".chip").nth(1).click();
+  await page.locator(".chip").nth(0).click();
   const live = page.locator(".turn").nth(n0);
   await live.locator(".progress .stage[data-stage]").waitFor({ timeout: 30000 });
   check("the stage is shown while it runs", await page.locator("#stop").isVisible() &&
