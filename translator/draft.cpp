@@ -1,11 +1,9 @@
 #include "translator/draft.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "planner/model/domain.h"
 #include "translator/extract.h"
 #include "translator/pipeline.h"
+#include "translator/prompt_files.h"
 #include "translator/text.h"
 
 namespace ctb {
@@ -13,22 +11,6 @@ namespace ctb {
 namespace {
 
 constexpr std::size_t kMaxQuotedAnswer = 12000;
-constexpr std::size_t kMaxListedProblems = 40;
-
-std::optional<std::string> ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string Fill(std::string text, const std::string& key, const std::string& value) {
-  const std::string k = "{{" + key + "}}";
-  std::size_t at = text.find(k);
-  if (at != std::string::npos) text.replace(at, k.size(), value);
-  return text;
-}
 
 struct Checked {
   std::optional<Json> model;         // the action model, when it loads
@@ -83,15 +65,6 @@ Checked CheckDraft(const ChatResponse& r) {
   return c;
 }
 
-std::string ListErrors(const std::vector<Diagnostic>& errors) {
-  std::string out;
-  for (std::size_t i = 0; i < errors.size() && i < kMaxListedProblems; ++i)
-    out += Cut(errors[i].ToString(), 400) + "\n";
-  if (errors.size() > kMaxListedProblems)
-    out += "(and " + std::to_string(errors.size() - kMaxListedProblems) + " more)\n";
-  return out;
-}
-
 }  // namespace
 
 std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient& llm,
@@ -100,13 +73,13 @@ std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient
     return Error{ErrorCode::kInvalidInput, "the description must have 1 to 8000 characters",
                  {{"/description", std::nullopt, "empty or too long"}}};
   const std::string dir = o.prompts_dir.empty() ? DefaultPromptsDir() : o.prompts_dir;
-  auto system = ReadText(dir + "/draft.txt"), user = ReadText(dir + "/draft_user.txt"),
-       repair = ReadText(dir + "/draft_repair.txt");
+  auto system = ReadPromptFile(dir + "/draft.txt"), user = ReadPromptFile(dir + "/draft_user.txt"),
+       repair = ReadPromptFile(dir + "/draft_repair.txt");
   if (!system || !user || !repair)
     return Error{ErrorCode::kInternal, "draft prompt files missing in '" + dir + "'", {}};
   DraftResult result;
   std::vector<ChatMessage> msgs = {{"system", *system},
-                                   {"user", Fill(*user, "description", ValidUtf8(description))}};
+                                   {"user", FillPrompt(*user, {{"description", ValidUtf8(description)}})}};
   auto ask = [&]() -> std::variant<ChatResponse, Error> {
     ChatRequest req;
     req.messages = msgs;
@@ -122,7 +95,7 @@ std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient
   Checked c = CheckDraft(std::get<ChatResponse>(answer));
   while (!c.errors.empty() && result.repairs < o.max_repairs) {
     ++result.repairs;
-    msgs.push_back({"user", Fill(*repair, "errors", ListErrors(c.errors))});
+    msgs.push_back({"user", FillPrompt(*repair, {{"errors", ListProblems(c.errors)}})});
     answer = ask();
     if (auto* e = std::get_if<Error>(&answer)) return *e;
     c = CheckDraft(std::get<ChatResponse>(answer));

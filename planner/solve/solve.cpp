@@ -1,6 +1,7 @@
 #include "planner/solve/solve.h"
 
 #include <cmath>
+#include <fstream>
 
 #include "planner/analyze/analyze.h"
 #include "planner/encode/encoder.h"
@@ -20,6 +21,20 @@ using solve::SolveOneModel;
 using solve::SolveParts;
 
 namespace {
+
+// --model-out when no exact engine ran (the first plan met the lower bound, or the parts were
+// solved apart): the whole problem's model at the plan's horizon, so the file always exists.
+void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, Objective objective,
+                   int horizon) {
+  if (o.model_out.empty()) return;
+  EncodeOptions eo;
+  eo.horizon = std::max(1, horizon);
+  eo.objective = objective;
+  eo.redundant = o.redundant;
+  Encoding enc = Encode(d, sp, Analyze(d, sp), eo);
+  std::ofstream(o.model_out) << enc.model;
+  std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
+}
 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
@@ -193,12 +208,16 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     c.first_solution_ms = found_ms;
     c.engine = c.found_by = "heuristic";
     c.proved_by = "lower bound";
+    WriteModelOut(d, sp, o, objective, c.horizon);
     return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
     if (c && c->error) return *c->error;
-    if (c) return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
+    if (c) {
+      WriteModelOut(d, sp, o, objective, c->best ? c->best->traj.goal_event : c->horizon);
+      return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
+    }
   }
   SolveOptions mono = o;
   const long offset = MsSince(t0);
