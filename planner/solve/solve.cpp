@@ -8,6 +8,7 @@
 #include "planner/solve/backend.h"
 #include "planner/solve/bounds.h"
 #include "planner/solve/decompose.h"
+#include "planner/solve/engines.h"
 #include "planner/solve/horizon_solver.h"
 #include "planner/solve/incumbent.h"
 #include "planner/solve/parts.h"
@@ -104,13 +105,8 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   if (o.time_limit_ms < 1 || o.time_limit_ms > 3600 * 1000)
     d.Error("/options/time_limit_ms", "time_limit_ms must be between 1 and 3,600,000");
   if (o.threads < 1 || o.threads > 64) d.Error("/options/threads", "threads must be between 1 and 64");
-  static const char* const kSearches[] = {"portfolio", "g_first", "tc_first", "first_fail",
-                                          "transitions_first", "default", "z3"};
-  bool known = false;
-  for (const char* s : kSearches) known = known || o.search == s;
-  if (!known)
-    d.Error("/options/search", "search must be portfolio, g_first, tc_first, first_fail, "
-                               "transitions_first, default or z3");
+  if (o.search != "portfolio" && !solve::FindEngine(o.search))
+    d.Error("/options/search", "search must be one of " + solve::SearchNames());
   if (o.first_plan_ms < -1 || o.first_plan_ms > 3600 * 1000)
     d.Error("/options/first_plan_ms", "first_plan_ms must be -1 (automatic) or between 0 and "
                                       "3,600,000");
@@ -169,8 +165,9 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   const Objective objective = o.objective.value_or(sp.objective);
   const int max_h = o.horizon ? *o.horizon : o.max_horizon;
   if (auto e = CheckRepresentable(d, sp, objective, max_h)) return *e;
-  const std::string solver = o.search == "z3" ? Z3EngineBackend().Name()
-                                              : (o.backend ? *o.backend : DefaultBackend()).Name();
+  const solve::Engine* alone = solve::FindEngine(o.search);
+  SolverBackend& gecode = o.backend ? *o.backend : DefaultBackend();
+  const std::string solver = alone ? solve::BackendOf(*alone, gecode).Name() : gecode.Name();
   Json stats = Json::object();
   if (o.static_analysis && !o.history) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates
