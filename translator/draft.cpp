@@ -1,6 +1,7 @@
 #include "translator/draft.h"
 
 #include "planner/model/domain.h"
+#include "translator/chat_loop.h"
 #include "translator/extract.h"
 #include "translator/pipeline.h"
 #include "translator/prompt_files.h"
@@ -9,8 +10,6 @@
 namespace ctb {
 
 namespace {
-
-constexpr std::size_t kMaxQuotedAnswer = 12000;
 
 struct Checked {
   std::optional<Json> model;         // the action model, when it loads
@@ -78,28 +77,19 @@ std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient
   if (!system || !user || !repair)
     return Error{ErrorCode::kInternal, "draft prompt files missing in '" + dir + "'", {}};
   DraftResult result;
-  std::vector<ChatMessage> msgs = {{"system", *system},
-                                   {"user", FillPrompt(*user, {{"description", ValidUtf8(description)}})}};
-  auto ask = [&]() -> std::variant<ChatResponse, Error> {
-    ChatRequest req;
-    req.messages = msgs;
-    req.json_mode = o.json_mode;
-    ++result.llm_calls;
-    auto r = llm.Complete(req);
-    if (auto* e = std::get_if<Error>(&r)) return *e;
-    msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
-    return r;
-  };
-  auto answer = ask();
+  ChatLoop chat(llm, o.json_mode,
+                {{"system", *system},
+                 {"user", FillPrompt(*user, {{"description", ValidUtf8(description)}})}});
+  auto answer = chat.Ask();
   if (auto* e = std::get_if<Error>(&answer)) return *e;
   Checked c = CheckDraft(std::get<ChatResponse>(answer));
-  while (!c.errors.empty() && result.repairs < o.max_repairs) {
-    ++result.repairs;
-    msgs.push_back({"user", FillPrompt(*repair, {{"errors", ListProblems(c.errors)}})});
-    answer = ask();
+  while (!c.errors.empty() && chat.repairs() < o.max_repairs) {
+    answer = chat.Repair(FillPrompt(*repair, {{"errors", ListProblems(c.errors)}}));
     if (auto* e = std::get_if<Error>(&answer)) return *e;
     c = CheckDraft(std::get<ChatResponse>(answer));
   }
+  result.llm_calls = chat.calls();
+  result.repairs = chat.repairs();
   if (!c.errors.empty())
     return Error{ErrorCode::kUnprocessable,
                  "the LLM's action model is still invalid after " + std::to_string(result.repairs) +

@@ -1,5 +1,6 @@
 #include "translator/report.h"
 
+#include "translator/chat_loop.h"
 #include "translator/extract.h"
 #include "translator/pipeline.h"
 #include "translator/prompt_files.h"
@@ -9,7 +10,6 @@ namespace ctb {
 
 namespace {
 
-constexpr std::size_t kMaxQuotedAnswer = 12000;
 constexpr std::size_t kMaxPlanLines = 400;
 
 std::string Number(double v) {
@@ -91,32 +91,22 @@ std::variant<ReportResult, Error> ReadReport(const Domain& d, const Json& trajec
   if (!system || !user || !repair)
     return Error{ErrorCode::kInternal, "report prompt files missing in '" + dir + "'", {}};
   ReportResult result;
-  std::vector<ChatMessage> msgs = {
-      {"system", *system},
-      {"user", FillPrompt(*user, {{"domain", DescribeDomain(d)},
-                                  {"plan", PlanLines(trajectory, now)},
-                                  {"now", Number(now)},
-                                  {"report", ValidUtf8(report)}})}};
-  auto ask = [&]() -> std::variant<ChatResponse, Error> {
-    ChatRequest req;
-    req.messages = msgs;
-    req.json_mode = o.json_mode;
-    ++result.llm_calls;
-    auto r = llm.Complete(req);
-    if (auto* e = std::get_if<Error>(&r)) return *e;
-    msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
-    return r;
-  };
-  auto answer = ask();
+  ChatLoop chat(llm, o.json_mode,
+                {{"system", *system},
+                 {"user", FillPrompt(*user, {{"domain", DescribeDomain(d)},
+                                             {"plan", PlanLines(trajectory, now)},
+                                             {"now", Number(now)},
+                                             {"report", ValidUtf8(report)}})}});
+  auto answer = chat.Ask();
   if (auto* e = std::get_if<Error>(&answer)) return *e;
   Checked c = CheckAnswer(std::get<ChatResponse>(answer), check);
-  while (!c.errors.empty() && result.repairs < o.max_repairs) {
-    ++result.repairs;
-    msgs.push_back({"user", FillPrompt(*repair, {{"errors", ListProblems(c.errors)}})});
-    answer = ask();
+  while (!c.errors.empty() && chat.repairs() < o.max_repairs) {
+    answer = chat.Repair(FillPrompt(*repair, {{"errors", ListProblems(c.errors)}}));
     if (auto* e = std::get_if<Error>(&answer)) return *e;
     c = CheckAnswer(std::get<ChatResponse>(answer), check);
   }
+  result.llm_calls = chat.calls();
+  result.repairs = chat.repairs();
   if (!c.errors.empty())
     return Error{ErrorCode::kUnprocessable,
                  "the LLM's reading of the report is still invalid after " +

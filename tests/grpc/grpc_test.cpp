@@ -458,8 +458,9 @@ TEST(Grpc, HttpAndGrpcGiveTheSameAnswer) {
     ASSERT_TRUE(s.stub->Solve(&c, SolveOf(domain, file, objective), &g).ok());
     EXPECT_EQ(g.trajectory().status(), h["status"]) << file;
     EXPECT_EQ(g.trajectory().verified(), h["verified"].get<bool>());
-    if (h["objective"]["value"].is_number())
+    if (h["objective"]["value"].is_number()) {
       EXPECT_EQ(g.objective().number_value(), h["objective"]["value"].get<double>()) << file;
+    }
     ASSERT_EQ(g.trajectory().transitions_size(), static_cast<int>(h.value("transitions", json::array()).size()));
     for (int i = 0; i < g.trajectory().transitions_size(); ++i) {
       const auto& gt = g.trajectory().transitions(i);

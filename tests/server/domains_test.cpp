@@ -36,14 +36,6 @@ Json DronesPlan() {
           {"constraints", {{"episodes", Json::object()}, {"temporal", Json::object()}, {"event", Json::object()}}}};
 }
 
-std::string TempDir(const std::string& tag) {
-  std::string d = "/tmp/ctb-domains-" + tag + "-" + std::to_string(getpid()) + "-" +
-                  std::to_string(Clock::now().time_since_epoch().count());
-  std::filesystem::create_directories(d);
-  chmod(d.c_str(), 0777);
-  return d;
-}
-
 // A client whose answers are recorded for the OpenAPI check.
 testing::RecordingClient Rc(const ServerProcess& s) {
   testing::RecordingClient c("127.0.0.1", s.port());
@@ -75,7 +67,7 @@ Json Find(const Json& list, const std::string& name) {
 }
 
 TEST(Domains, CreateReadReplaceDeleteAndKeptAcrossARestart) {
-  const std::string data = TempDir("crud");
+  const std::string data = testing::TempDir("domains-crud");
   {
     ServerProcess s(Json::object(), {"--data-dir", data});
     auto c = Rc(s);
@@ -119,7 +111,7 @@ TEST(Domains, CreateReadReplaceDeleteAndKeptAcrossARestart) {
 }
 
 TEST(Domains, BadDocumentsAreRefusedWithPointersAndNothingIsStored) {
-  const std::string data = TempDir("bad");
+  const std::string data = testing::TempDir("domains-bad");
   ServerProcess s(Json::object(), {"--data-dir", data});
   auto c = Rc(s);
   // A guard in the template that names a location no drone has: the template's own pointer,
@@ -163,7 +155,7 @@ TEST(Domains, BadDocumentsAreRefusedWithPointersAndNothingIsStored) {
 }
 
 TEST(Domains, AStoredDomainSolvesPlansReplansAndIsKeptWhileASessionUsesIt) {
-  const std::string data = TempDir("use");
+  const std::string data = testing::TempDir("domains-use");
   MockLlmServer m;
   m.Then(MockReply::Chat(DronesPlan().dump()));
   ServerProcess s(Json::object(), {"--data-dir", data},
@@ -199,7 +191,7 @@ TEST(Domains, AStoredDomainSolvesPlansReplansAndIsKeptWhileASessionUsesIt) {
 }
 
 TEST(Domains, TheDiagramNamesEveryAutomatonAndLocation) {
-  const std::string data = TempDir("diagram");
+  const std::string data = testing::TempDir("domains-diagram");
   ServerProcess s(Json::object(), {"--data-dir", data});
   auto c = Rc(s);
   ASSERT_EQ(c.Post("/domains", Drones().dump(), "application/json")->status, 201);
@@ -224,7 +216,7 @@ std::string Recording(const std::string& name) {
 }
 
 TEST(Domains, DraftsFromWordsAreCheckedRepairedAndNeverStored) {
-  const std::string data = TempDir("draft");
+  const std::string data = testing::TempDir("domains-draft");
   MockLlmServer m;
   m.Then(MockReply::Chat(Recording("good.txt")));
   for (int i = 0; i < 3; ++i) m.Then(MockReply::Chat(Recording("broken.txt")));
@@ -258,7 +250,7 @@ TEST(Domains, DraftsFromWordsAreCheckedRepairedAndNeverStored) {
 TEST(Domains, ReplicasSharingRedisSeeTheSameDomains) {
   if (!testing::Executable("/usr/bin/redis-server"))
     GTEST_SKIP() << "redis-server missing: bash scripts/install-deps.sh --test";
-  const std::string dir = TempDir("replicas");
+  const std::string dir = testing::TempDir("domains-replicas");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = testing::Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind",
                                 "127.0.0.1", "--save", "", "--appendonly", "no", "--dir", dir},
