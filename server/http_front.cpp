@@ -408,7 +408,10 @@ class HttpFrontEnd::Impl {
       SendJson(s, 200, std::get<app::DraftAnswer>(r).document);
     }));
     svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
-      auto r = core_.GetDomain(q.matches[1]);
+      const std::string expand = q.get_param_value("expand");
+      if (!expand.empty() && expand != "true" && expand != "false")
+        return SendError(s, {ErrorCode::kInvalidInput, "the query parameter expand must be true or false", {}});
+      auto r = core_.GetDomain(q.matches[1], expand != "true");
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
       SendJson(s, 200, std::get<Json>(r));
     }));
