@@ -1,10 +1,10 @@
 // Grounding: objects and facts from the domain's constants and the problem, every binding of
 // each action's parameters that its static conditions allow, then the state variables.
+#include "interchange/pddl/internal/grounding.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
-
-#include "interchange/pddl/internal/grounding.h"
 
 namespace ctb::pddl {
 
@@ -103,8 +103,9 @@ void Grounder::Facts() {
       continue;
     }
     bool ok = s->params.size() == a.args.size();
-    if (!ok) Fail(p_->file, a.pos, "", "predicate '" + a.pred + "' takes " +
-                                          std::to_string(s->params.size()) + " arguments");
+    if (!ok)
+      Fail(p_->file, a.pos, "",
+           "predicate '" + a.pred + "' takes " + std::to_string(s->params.size()) + " arguments");
     for (const auto& x : a.args)
       if (!object_types_.count(x)) {
         Fail(p_->file, a.pos, "", "unknown object '" + x + "' in :init");
@@ -118,7 +119,8 @@ std::optional<double> Grounder::Eval(const NumExpr& e, const Action& a,
                                      const std::function<std::string(const std::string&)>& term,
                                      bool& failed) {
   switch (e.kind) {
-    case NumExpr::Kind::kNumber: return e.value;
+    case NumExpr::Kind::kNumber:
+      return e.value;
     case NumExpr::Kind::kFunction: {
       std::vector<std::string> args;
       for (const auto& t : e.args) args.push_back(term(t));
@@ -183,7 +185,7 @@ void Grounder::Complete(std::size_t index, const std::vector<std::string>& bindi
     if (tc.when == When::kEnd) continue;  // repeats an earlier one (state_vars.cpp)
     Atom x = ground(tc.lit.atom);
     auto loc = g_.Locate(sv_, x);
-    if (!loc) continue;  // static: checked while binding
+    if (!loc) continue;          // static: checked while binding
     if (loc->first == ga.var) {  // the variable the action moves: read on its source value
       if ((loc->second == ga.from) != tc.lit.positive) return;
       continue;
@@ -210,17 +212,18 @@ void Grounder::Complete(std::size_t index, const std::vector<std::string>& bindi
       ga.hi = *hi;
     }
     std::string where = "(" + GroundKey(a.name, binding) + ")";
-    if (ga.lo < 0 || (ga.hi && *ga.hi < 0) || (ga.hi && *ga.hi < ga.lo) ||
-        ga.lo > kMaxDuration || (ga.hi && *ga.hi > kMaxDuration) || !std::isfinite(ga.lo)) {
-      Fail(d_.file, a.pos, a.name, "the duration of " + where +
-                                       " is negative, empty, or beyond 10,000,000 seconds");
+    if (ga.lo < 0 || (ga.hi && *ga.hi < 0) || (ga.hi && *ga.hi < ga.lo) || ga.lo > kMaxDuration ||
+        (ga.hi && *ga.hi > kMaxDuration) || !std::isfinite(ga.lo)) {
+      Fail(d_.file, a.pos, a.name,
+           "the duration of " + where + " is negative, empty, or beyond 10,000,000 seconds");
       too_many_ = true;  // stop: one such message is enough
       return;
     }
   }
   if (g_.actions.size() >= o_.max_ground_actions) {
-    Fail(d_.file, a.pos, a.name, "more than " + std::to_string(o_.max_ground_actions) +
-                                     " ground actions; the import stops here");
+    Fail(d_.file, a.pos, a.name,
+         "more than " + std::to_string(o_.max_ground_actions) +
+             " ground actions; the import stops here");
     too_many_ = true;
     return;
   }
@@ -241,9 +244,13 @@ void Grounder::Bind(std::size_t index) {
     const Atom& x = tc.lit.atom;
     if (!x.equality && sv_.IsFluent(x.pred)) continue;
     if (!x.equality && !p_) {
-      Fail(d_.file, tc.lit.pos, a.name, "condition " + tc.lit.text + " reads the static "
-                                        "predicate '" + x.pred + "', whose facts come from a "
-                                        "problem's :init: give the problem file");
+      Fail(d_.file, tc.lit.pos, a.name,
+           "condition " + tc.lit.text +
+               " reads the static "
+               "predicate '" +
+               x.pred +
+               "', whose facts come from a "
+               "problem's :init: give the problem file");
       return;
     }
     std::size_t last = 0;
@@ -261,14 +268,16 @@ void Grounder::Bind(std::size_t index) {
         if (a.params[i].name == t) v = binding[i];
       args.push_back(v);
     }
-    bool truth = l->atom.equality ? args[0] == args[1] : g_.facts.count(GroundKey(l->atom.pred, args)) > 0;
+    bool truth =
+        l->atom.equality ? args[0] == args[1] : g_.facts.count(GroundKey(l->atom.pred, args)) > 0;
     return truth == l->positive;
   };
   std::function<void(std::size_t)> walk = [&](std::size_t k) {
     if (too_many_) return;
     if (++steps_ > kMaxBindingSteps) {
-      Fail(d_.file, a.pos, a.name, "too many parameter bindings to try (more than " +
-                                       std::to_string(kMaxBindingSteps) + "); the import stops here");
+      Fail(d_.file, a.pos, a.name,
+           "too many parameter bindings to try (more than " + std::to_string(kMaxBindingSteps) +
+               "); the import stops here");
       too_many_ = true;
       return;
     }
@@ -299,11 +308,10 @@ void Grounder::Variables() {
       if (!loc) continue;
       auto& var = vars[loc->first];
       if (var.initial && *var.initial != loc->second) {
-        Fail(p_->file, a.pos, "", "two initial values of one state variable: (" +
-                                      GroundKey(a.pred, a.args) + ") and the value '" +
-                                      *var.initial + "' before it; the predicates " +
-                                      sv_.groups[loc->first.group].name +
-                                      " form one variable per object");
+        Fail(p_->file, a.pos, "",
+             "two initial values of one state variable: (" + GroundKey(a.pred, a.args) +
+                 ") and the value '" + *var.initial + "' before it; the predicates " +
+                 sv_.groups[loc->first.group].name + " form one variable per object");
         continue;
       }
       var.initial = loc->second;
@@ -338,7 +346,8 @@ void Grounder::Variables() {
       std::string owner;
       for (const auto& o : k.owner) owner += (owner.empty() ? "" : " ") + o;
       warnings_.push_back(Issue{p_->file, 0, 0, "",
-                                "'" + owner + "' has no initial value of " + sv_.groups[k.group].name +
+                                "'" + owner + "' has no initial value of " +
+                                    sv_.groups[k.group].name +
                                     " in :init: its state variable and " + std::to_string(n) +
                                     " ground actions are left out"});
     }
@@ -388,8 +397,9 @@ std::optional<Grounded> Grounder::Run() {
     if (a.min_duration) scan(*a.min_duration);
     if (a.max_duration) scan(*a.max_duration);
     if (uses_functions && !p_) {
-      Fail(d_.file, a.pos, a.name, "the duration reads a function, whose values come from a "
-                                   "problem's :init: give the problem file");
+      Fail(d_.file, a.pos, a.name,
+           "the duration reads a function, whose values come from a "
+           "problem's :init: give the problem file");
       continue;
     }
     std::size_t n = g_.actions.size();
@@ -400,8 +410,9 @@ std::optional<Grounded> Grounder::Run() {
                                     " bindings left out: their duration reads a function value "
                                     "that :init does not give"});
     if (g_.actions.size() == n && issues_.size() == before)
-      warnings_.push_back(Issue{d_.file, a.pos.line, a.pos.column, a.name,
-                                "has no binding of its parameters that its static conditions allow"});
+      warnings_.push_back(
+          Issue{d_.file, a.pos.line, a.pos.column, a.name,
+                "has no binding of its parameters that its static conditions allow"});
   }
   if (issues_.size() > before) return std::nullopt;
   Variables();

@@ -43,9 +43,9 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
     auto pe = ReadSExpr(problem->text, problem->file, issues);
     if (pe) p = ReadProblem(*pe, problem->file, issues);
     if (p && d && !p->domain_name.empty() && p->domain_name != d->name)
-      out.warnings.push_back(Issue{p->file, p->domain_pos.line, p->domain_pos.column, "",
-                                   "the problem is for domain '" + p->domain_name +
-                                       "', not '" + d->name + "'"});
+      out.warnings.push_back(
+          Issue{p->file, p->domain_pos.line, p->domain_pos.column, "",
+                "the problem is for domain '" + p->domain_name + "', not '" + d->name + "'"});
   }
   if (!d || (problem && !p)) return issues;
   auto sv = AnalyzeStateVars(*d, issues, out.warnings);

@@ -42,13 +42,13 @@ struct Source {
 };
 
 struct ImportOptions {
-  std::string name;                       // the domain's name; "" = the PDDL domain's, sanitized
-  std::size_t max_ground_actions = 20000; // beyond this the import is refused
+  std::string name;                        // the domain's name; "" = the PDDL domain's, sanitized
+  std::size_t max_ground_actions = 20000;  // beyond this the import is refused
 };
 
 struct Imported {
-  Json domain;             // an action model (contract section 2) that LoadDomain accepts
-  Json state_plan;         // with a problem: initial state, goal, objective; else null
+  Json domain;      // an action model (contract section 2) that LoadDomain accepts
+  Json state_plan;  // with a problem: initial state, goal, objective; else null
   std::vector<Issue> warnings;
   std::size_t ground_actions = 0;
 };

@@ -9,9 +9,12 @@ namespace ctb::pddl {
 
 const char* WhenName(When w) {
   switch (w) {
-    case When::kStart: return "at start";
-    case When::kOverAll: return "over all";
-    case When::kEnd: return "at end";
+    case When::kStart:
+      return "at start";
+    case When::kOverAll:
+      return "over all";
+    case When::kEnd:
+      return "at end";
   }
   return "";
 }
@@ -99,7 +102,8 @@ std::vector<TypedName> Reader::TypedList(const SExpr& list, std::size_t from, bo
         types.push_back(t.atom);
       } else if (t.HasHead("either") && t.items.size() > 1) {
         for (std::size_t k = 1; k < t.items.size(); ++k)
-          if (Expect(t.items[k].IsAtom(), t.items[k], "a type name")) types.push_back(t.items[k].atom);
+          if (Expect(t.items[k].IsAtom(), t.items[k], "a type name"))
+            types.push_back(t.items[k].atom);
       } else {
         Expect(false, t, "a type or (either ...)");
         continue;
@@ -136,8 +140,8 @@ void Reader::Signatures(const SExpr& e, std::vector<Signature>& out, bool functi
     const SExpr& s = e.items[i];
     if (functions && s.IsAtom("-")) {  // "- number" after a function
       if (i + 1 < e.items.size() && !e.items[i + 1].IsAtom("number"))
-        Fail(e.items[i + 1].pos, "function type '" + e.items[i + 1].ToString() +
-                                     "' cannot be mapped (only number)");
+        Fail(e.items[i + 1].pos,
+             "function type '" + e.items[i + 1].ToString() + "' cannot be mapped (only number)");
       ++i;
       continue;
     }
@@ -193,8 +197,9 @@ void Reader::Duration(const SExpr& e, Action& a) {
   bool ok = e.items.size() == 3 && e.items[1].IsAtom("?duration") &&
             (op == "=" || op == "<=" || op == ">=");
   if (!ok) {
-    Fail(e.pos, "duration constraint " + e.ToString() +
-                    " cannot be mapped: write (= ?duration D), (>= ?duration D) or (<= ?duration D)");
+    Fail(e.pos,
+         "duration constraint " + e.ToString() +
+             " cannot be mapped: write (= ?duration D), (>= ?duration D) or (<= ?duration D)");
     return;
   }
   auto v = Number(e.items[2]);
@@ -217,13 +222,12 @@ std::optional<Literal> Reader::ReadLiteral(const SExpr& e, bool effect) {
     atom = &e.items[1];
   }
   std::string head = atom->Head();
-  static const std::set<std::string> kNumeric = {"<", ">", "<=", ">=", "increase", "decrease",
-                                                  "assign", "scale-up", "scale-down"};
-  static const std::set<std::string> kConnectives = {"and", "or", "imply", "exists", "forall",
-                                                      "when", "not"};
-  if (kNumeric.count(head) ||
-      (head == "=" && atom->items.size() == 3 &&
-       (atom->items[1].is_list || atom->items[2].is_list))) {
+  static const std::set<std::string> kNumeric = {
+      "<", ">", "<=", ">=", "increase", "decrease", "assign", "scale-up", "scale-down"};
+  static const std::set<std::string> kConnectives = {"and",    "or",   "imply", "exists",
+                                                     "forall", "when", "not"};
+  if (kNumeric.count(head) || (head == "=" && atom->items.size() == 3 &&
+                               (atom->items[1].is_list || atom->items[2].is_list))) {
     Fail(e.pos, std::string(effect ? "effect " : "condition ") + l.text +
                     " uses numeric fluents, which cannot be mapped (automata have no numbers)");
     return std::nullopt;
@@ -235,8 +239,9 @@ std::optional<Literal> Reader::ReadLiteral(const SExpr& e, bool effect) {
       Fail(e.pos, std::string(effect ? "effect " : "condition ") + l.text +
                       " is quantified, which cannot be mapped");
     else
-      Fail(e.pos, std::string(effect ? "effect " : "condition ") + l.text +
-                      " cannot be mapped: only conjunctions of literals (p ...) and (not (p ...)) are");
+      Fail(e.pos,
+           std::string(effect ? "effect " : "condition ") + l.text +
+               " cannot be mapped: only conjunctions of literals (p ...) and (not (p ...)) are");
     return std::nullopt;
   }
   l.atom.pred = head;
@@ -300,14 +305,16 @@ void Reader::TimedEffects(const SExpr& e, std::vector<TimedLiteral>& out) {
   auto w = TimeSpecifier(e);
   if (w && *w != When::kOverAll) return Literals(e.items[2], *w, out, true);
   static const std::set<std::string> kNumeric = {"increase", "decrease", "assign", "scale-up",
-                                                  "scale-down"};
+                                                 "scale-down"};
   if (kNumeric.count(e.Head()))
-    return Fail(e.pos, "effect " + e.ToString() +
-                           " uses numeric fluents, which cannot be mapped (automata have no numbers)");
+    return Fail(e.pos,
+                "effect " + e.ToString() +
+                    " uses numeric fluents, which cannot be mapped (automata have no numbers)");
   if (e.HasHead("forall") || e.HasHead("when"))
     return Fail(e.pos, "effect " + e.ToString() + " cannot be mapped (" +
                            (e.HasHead("when") ? "conditional" : "universal") + " effect)");
-  Fail(e.pos, "effect " + e.ToString() + " has no time specifier: write (at start ...) or (at end ...)");
+  Fail(e.pos,
+       "effect " + e.ToString() + " has no time specifier: write (at start ...) or (at end ...)");
 }
 
 void Reader::ReadAction(const SExpr& e, bool durative, DomainAst& d) {
@@ -362,7 +369,8 @@ void Reader::CheckAtom(const Atom& a, const Action& act, const DomainAst& d) {
   }
   if (a.equality) return;
   const Signature* s = d.Predicate(a.pred);
-  if (!s) Fail(a.pos, "unknown predicate '" + a.pred + "'");
+  if (!s)
+    Fail(a.pos, "unknown predicate '" + a.pred + "'");
   else if (s->params.size() != a.args.size())
     Fail(a.pos, "predicate '" + a.pred + "' takes " + std::to_string(s->params.size()) +
                     " arguments, got " + std::to_string(a.args.size()));
@@ -399,13 +407,20 @@ std::optional<DomainAst> Reader::Domain(const SExpr& e) {
         continue;
       }
       if (head == ":requirements") continue;
-      if (head == ":types") Types(s, d);
-      else if (head == ":constants") d.constants = TypedList(s, 1, false);
-      else if (head == ":predicates") Signatures(s, d.predicates, false);
-      else if (head == ":functions") Signatures(s, d.functions, true);
-      else if (head == ":derived") Fail(s.pos, "derived predicates (:derived) cannot be mapped");
-      else if (head == ":constraints") Fail(s.pos, "constraints (:constraints, PDDL3) cannot be mapped");
-      else Fail(s.pos, "unknown or unsupported domain section " + s.ToString(40));
+      if (head == ":types")
+        Types(s, d);
+      else if (head == ":constants")
+        d.constants = TypedList(s, 1, false);
+      else if (head == ":predicates")
+        Signatures(s, d.predicates, false);
+      else if (head == ":functions")
+        Signatures(s, d.functions, true);
+      else if (head == ":derived")
+        Fail(s.pos, "derived predicates (:derived) cannot be mapped");
+      else if (head == ":constraints")
+        Fail(s.pos, "constraints (:constraints, PDDL3) cannot be mapped");
+      else
+        Fail(s.pos, "unknown or unsupported domain section " + s.ToString(40));
     }
   }
   for (const auto& c : d.constants)
@@ -422,8 +437,10 @@ std::optional<Goal> Reader::ReadGoal(const SExpr& e) {
   g.pos = e.pos;
   std::string head = e.Head();
   if (head == "and" || head == "or" || head == "not" || head == "imply") {
-    g.kind = head == "and" ? Goal::Kind::kAnd : head == "or" ? Goal::Kind::kOr
-             : head == "not" ? Goal::Kind::kNot : Goal::Kind::kImply;
+    g.kind = head == "and"   ? Goal::Kind::kAnd
+             : head == "or"  ? Goal::Kind::kOr
+             : head == "not" ? Goal::Kind::kNot
+                             : Goal::Kind::kImply;
     if ((head == "not" && e.items.size() != 2) || (head == "imply" && e.items.size() != 3)) {
       Expect(false, e, head == "not" ? "(not X)" : "(imply X Y)");
       return std::nullopt;
@@ -474,8 +491,10 @@ std::optional<ProblemAst> Reader::Problem(const SExpr& e) {
         if (f.HasHead("=") && f.items.size() == 3 && f.items[1].is_list && f.items[2].IsAtom() &&
             IsNumber(f.items[2].atom, &v)) {
           auto fn = Number(f.items[1]);
-          if (fn && fn->kind == NumExpr::Kind::kFunction) p.init_values[GroundKey(fn->name, fn->args)] = v;
-          else Expect(false, f, "(= (f objects) NUMBER)");
+          if (fn && fn->kind == NumExpr::Kind::kFunction)
+            p.init_values[GroundKey(fn->name, fn->args)] = v;
+          else
+            Expect(false, f, "(= (f objects) NUMBER)");
         } else if (f.HasHead("at") && f.items.size() == 3 && f.items[1].IsAtom() &&
                    IsNumber(f.items[1].atom)) {
           Fail(f.pos, "timed initial literal " + f.ToString() + " cannot be mapped");
@@ -491,11 +510,15 @@ std::optional<ProblemAst> Reader::Problem(const SExpr& e) {
       p.goal_pos = s.pos;
       if (Expect(s.items.size() == 2, s, "(:goal G)")) p.goal = ReadGoal(s.items[1]);
     } else if (head == ":metric") {
-      bool tt = s.items.size() == 3 && s.items[1].IsAtom("minimize") &&
-                (s.items[2].IsAtom("total-time") ||
-                 (s.items[2].is_list && s.items[2].items.size() == 1 && s.items[2].items[0].IsAtom("total-time")));
-      if (tt) p.minimize_total_time = true;
-      else Fail(s.pos, "metric " + s.ToString() + " cannot be mapped (only (:metric minimize (total-time)))");
+      bool tt =
+          s.items.size() == 3 && s.items[1].IsAtom("minimize") &&
+          (s.items[2].IsAtom("total-time") || (s.items[2].is_list && s.items[2].items.size() == 1 &&
+                                               s.items[2].items[0].IsAtom("total-time")));
+      if (tt)
+        p.minimize_total_time = true;
+      else
+        Fail(s.pos,
+             "metric " + s.ToString() + " cannot be mapped (only (:metric minimize (total-time)))");
     } else if (head == ":constraints") {
       Fail(s.pos, "constraints (:constraints, PDDL3) cannot be mapped");
     } else {

@@ -86,8 +86,8 @@ std::optional<SExpr> ReadSExpr(std::string_view text, const std::string& file,
       while (i < text.size() && text[i] != '\n') advance(1);
     } else if (c == '(') {
       if (static_cast<int>(open.size()) >= kMaxSExprDepth) {
-        issues.push_back(At(file, pos, "nested more than " + std::to_string(kMaxSExprDepth) +
-                                           " levels deep"));
+        issues.push_back(
+            At(file, pos, "nested more than " + std::to_string(kMaxSExprDepth) + " levels deep"));
         return std::nullopt;
       }
       SExpr e;

@@ -1,9 +1,9 @@
 // Grouping fluents into state variables: each action must leave one value of one object's
 // variable for another (or switch one boolean atom); the predicates it moves between are merged.
+#include "interchange/pddl/internal/state_vars.h"
+
 #include <numeric>
 #include <set>
-
-#include "interchange/pddl/internal/state_vars.h"
 
 namespace ctb::pddl {
 
@@ -69,9 +69,10 @@ void Analysis::CheckEndConditions(const Action& a) {
       repeated = repeated || (o.when != When::kEnd && o.lit.positive == c.lit.positive &&
                               SameAtom(o.lit.atom, c.lit.atom));
     if (!repeated)
-      Fail(a, c.lit.pos, "condition (at end " + c.lit.text +
-                             ") cannot be mapped: an action ends by an automatic transition, "
-                             "which cannot wait for it; write it (over all ...) if it must hold throughout");
+      Fail(a, c.lit.pos,
+           "condition (at end " + c.lit.text +
+               ") cannot be mapped: an action ends by an automatic transition, "
+               "which cannot wait for it; write it (over all ...) if it must hold throughout");
   }
 }
 
@@ -93,18 +94,20 @@ std::optional<ActionChange> Analysis::Lifted(const Action& a, bool& ok) {
   std::string owner = OwnerTerm(all[0]->atom);
   for (const Literal* l : all) {
     if (OwnerTerm(l->atom) == owner) continue;
-    Fail(a, l->pos, "changes two state variables at once: " + AtomText(all[0]->atom) + " of " +
-                        OwnerText(owner) + " and " + AtomText(l->atom) + " of " +
-                        OwnerText(OwnerTerm(l->atom)) +
-                        "; an action may change one object's state (split it into actions)");
+    Fail(a, l->pos,
+         "changes two state variables at once: " + AtomText(all[0]->atom) + " of " +
+             OwnerText(owner) + " and " + AtomText(l->atom) + " of " +
+             OwnerText(OwnerTerm(l->atom)) +
+             "; an action may change one object's state (split it into actions)");
     ok = false;
     return std::nullopt;
   }
   if (dels.size() > 1 || adds.size() > 1) {
     std::string list;
     for (const Literal* l : all) list += (list.empty() ? "" : ", ") + l->text;
-    Fail(a, a.pos, "changes two state variables of " + OwnerText(owner) + " at once (" + list +
-                       "); an action may leave one value for one other");
+    Fail(a, a.pos,
+         "changes two state variables of " + OwnerText(owner) + " at once (" + list +
+             "); an action may leave one value for one other");
     ok = false;
     return std::nullopt;
   }
@@ -113,9 +116,11 @@ std::optional<ActionChange> Analysis::Lifted(const Action& a, bool& ok) {
   if (!adds.empty()) c.add = *adds[0];
   if (c.del && c.add) {
     if (!Requires(a, *c.del)) {
-      Fail(a, c.del->pos, "deletes " + AtomText(c.del->atom) + " without requiring it (at start or over "
-                          "all): the value it leaves is unknown, so " + c.del->atom.pred +
-                          " is not one value per object");
+      Fail(a, c.del->pos,
+           "deletes " + AtomText(c.del->atom) +
+               " without requiring it (at start or over "
+               "all): the value it leaves is unknown, so " +
+               c.del->atom.pred + " is not one value per object");
       ok = false;
       return std::nullopt;
     }
@@ -161,16 +166,18 @@ std::optional<StateVars> Analysis::Run() {
     if (!c->del || !c->add) {
       if (g.preds.size() > 1) {
         const Literal& l = c->del ? *c->del : *c->add;
-        Fail(a, l.pos, std::string(c->add ? "adds " : "deletes ") + AtomText(l.atom) + " without " +
-                           (c->add ? "deleting" : "adding") +
-                           " another value of its state variable (" + values +
-                           "): the values are then not mutually exclusive");
+        Fail(a, l.pos,
+             std::string(c->add ? "adds " : "deletes ") + AtomText(l.atom) + " without " +
+                 (c->add ? "deleting" : "adding") + " another value of its state variable (" +
+                 values + "): the values are then not mutually exclusive");
         ok = false;
       }
     } else if (g.preds.size() == 1 && !SameAtom(c->del->atom, c->add->atom)) {
-      Fail(a, c->add->pos, "moves " + AtomText(c->del->atom) + " to " + AtomText(c->add->atom) + ", but another "
-                           "action adds or deletes " + c->add->atom.pred +
-                           " alone: its atoms are then not one value per object");
+      Fail(a, c->add->pos,
+           "moves " + AtomText(c->del->atom) + " to " + AtomText(c->add->atom) +
+               ", but another "
+               "action adds or deletes " +
+               c->add->atom.pred + " alone: its atoms are then not one value per object");
       ok = false;
     }
   }

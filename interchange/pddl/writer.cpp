@@ -1,9 +1,10 @@
 // Writing the ground model: one automaton per state variable, a command location chain per
 // durative action, guards from the conditions, and guards that protect over-all conditions.
+#include "interchange/pddl/internal/writer.h"
+
 #include <cmath>
 #include <set>
 
-#include "interchange/pddl/internal/writer.h"
 #include "planner/model/domain.h"
 
 namespace ctb::pddl {
@@ -87,10 +88,10 @@ class Writer {
   const ProblemAst* p_;
   const ImportOptions& o_;
   std::vector<Issue>& issues_;
-  std::vector<std::string> automaton_;                     // per variable
+  std::vector<std::string> automaton_;                        // per variable
   std::vector<std::map<std::string, std::string>> location_;  // per variable: value -> name
-  std::vector<std::string> step_;    // per ground action: timed location and command
-  std::vector<int> var_of_;          // per ground action
+  std::vector<std::string> step_;                  // per ground action: timed location and command
+  std::vector<int> var_of_;                        // per ground action
   std::vector<std::vector<std::string>> protect_;  // per ground action: extra guard atoms
   std::map<VarKey, int> var_index_;
   // Ground actions by (variable, value they leave) and (variable, value they enter).
@@ -164,8 +165,8 @@ void Writer::NameLocations() {
   for (const auto& ga : g_.actions) {
     int v = VarIndex(ga.var);
     var_of_.push_back(v);
-    std::string base = Identifier(d_.actions[ga.action].name +
-                                  (ga.args.empty() ? "" : "_" + Join(ga.args, "_")));
+    std::string base =
+        Identifier(d_.actions[ga.action].name + (ga.args.empty() ? "" : "_" + Join(ga.args, "_")));
     std::string n = base;
     for (int k = 2; used[v].Has(n) || commands[v].Has(n); ++k) n = base + "_" + std::to_string(k);
     if (d_.actions[ga.action].durative) used[v].Reserve(n);
@@ -210,7 +211,8 @@ std::string Writer::Guard(std::size_t a) const {
     if (c.positive || !c.over_all) continue;
     // Not heading for the forbidden value either: no action on v that ends in it is running.
     for (std::size_t y : Lookup(entering_, v, c.value))
-      if (d_.actions[g_.actions[y].action].durative) atoms.push_back(automaton_[v] + "l[i]!=" + step_[y]);
+      if (d_.actions[g_.actions[y].action].durative)
+        atoms.push_back(automaton_[v] + "l[i]!=" + step_[y]);
   }
   for (const auto& p : protect_[a]) atoms.push_back(p);
   return Join(atoms, " /\\ ");
@@ -249,8 +251,10 @@ Json Writer::Automata() {
   for (std::size_t i = 0; i < g_.variables.size(); ++i) {
     Json locations = Json::array();
     for (const auto& v : g_.variables[i].values) locations.push_back(location_[i].at(v));
-    automata.push_back({{"name", automaton_[i]}, {"locations", locations},
-                        {"commands", Json::array()}, {"transitions", Json::array()}});
+    automata.push_back({{"name", automaton_[i]},
+                        {"locations", locations},
+                        {"commands", Json::array()},
+                        {"transitions", Json::array()}});
   }
   for (std::size_t a = 0; a < g_.actions.size(); ++a) {
     const GroundAction& ga = g_.actions[a];
@@ -267,7 +271,8 @@ Json Writer::Automata() {
     }
     au["locations"].push_back(step_[a]);
     au["transitions"].push_back({{"from", from}, {"to", step_[a]}, {"guard", Guard(a)}});
-    Json t = {{"from", step_[a]}, {"to", to},
+    Json t = {{"from", step_[a]},
+              {"to", to},
               {"duration", {Duration(ga.lo), ga.hi ? Duration(*ga.hi) : Json()}}};
     if (!ga.hi || *ga.hi != ga.lo) t["controllable"] = true;
     au["transitions"].push_back(std::move(t));
@@ -289,15 +294,19 @@ std::optional<std::string> Writer::GoalText(const Goal& goal) {
     return parts.size() == 1 ? parts[0] : "(" + Join(parts, op) + ")";
   };
   switch (goal.kind) {
-    case Goal::Kind::kAnd: return join(" /\\ ", "true");
-    case Goal::Kind::kOr: return join(" \\/ ", "false");
-    case Goal::Kind::kImply: return join(" -> ", "true");
+    case Goal::Kind::kAnd:
+      return join(" /\\ ", "true");
+    case Goal::Kind::kOr:
+      return join(" \\/ ", "false");
+    case Goal::Kind::kImply:
+      return join(" -> ", "true");
     case Goal::Kind::kNot: {
       auto t = GoalText(goal.kids[0]);
       if (!t) return std::nullopt;
       return "(not " + *t + ")";
     }
-    case Goal::Kind::kLiteral: break;
+    case Goal::Kind::kLiteral:
+      break;
   }
   const ::ctb::pddl::Atom& a = goal.lit.atom;
   for (const auto& x : a.args) {
@@ -313,7 +322,9 @@ std::optional<std::string> Writer::GoalText(const Goal& goal) {
                             "goal " + goal.lit.text + ": unknown predicate or wrong arity"});
     return std::nullopt;
   }
-  auto constant = [&](bool truth) { return std::string(truth == goal.lit.positive ? "true" : "false"); };
+  auto constant = [&](bool truth) {
+    return std::string(truth == goal.lit.positive ? "true" : "false");
+  };
   if (a.equality) return constant(a.args[0] == a.args[1]);
   auto loc = g_.Locate(sv_, a);
   if (!loc) return constant(g_.facts.count(GroundKey(a.pred, a.args)) > 0);
@@ -324,8 +335,9 @@ std::optional<std::string> Writer::GoalText(const Goal& goal) {
 
 std::optional<Written> Writer::Run() {
   if (g_.variables.empty()) {
-    issues_.push_back(Issue{d_.file, 0, 0, "", "nothing to import: no action applies to any "
-                                               "object and no state variable has a value"});
+    issues_.push_back(Issue{d_.file, 0, 0, "",
+                            "nothing to import: no action applies to any "
+                            "object and no state variable has a value"});
     return std::nullopt;
   }
   Index();

@@ -1,10 +1,10 @@
 // The PDDL import (interchange/pddl, docs/domains.md "Importing PDDL"): a faithful PDDL of the
 // thesis' search_rescue imported and solved to the shipped domain's optimum, a presentation-like
 // domain from its constants, and one located error, naming the action, per unsupported feature.
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "interchange/pddl/import.h"
 #include "planner/model/domain.h"
@@ -43,8 +43,7 @@ Imported MustImport(const Source& d, const std::optional<Source>& p) {
 std::vector<Issue> MustFail(const Source& d, const std::optional<Source>& p = std::nullopt) {
   auto r = ImportPddl(d, p);
   if (auto* e = std::get_if<std::vector<Issue>>(&r)) return *e;
-  ADD_FAILURE() << "imported although it should not:\n"
-                << std::get<Imported>(r).domain.dump(2);
+  ADD_FAILURE() << "imported although it should not:\n" << std::get<Imported>(r).domain.dump(2);
   return {};
 }
 
@@ -78,7 +77,8 @@ Json SolveImported(const Json& domain_json, const Json& plan_json, SolveOptions 
 }
 
 TEST(PddlImport, SearchRescueBecomesOneAutomatonPerRobotAndDoor) {
-  Imported im = MustImport(Fixture("search_rescue_domain.pddl"), Fixture("search_rescue_problem.pddl"));
+  Imported im =
+      MustImport(Fixture("search_rescue_domain.pddl"), Fixture("search_rescue_problem.pddl"));
   ASSERT_TRUE(im.domain.is_object());
   EXPECT_EQ(im.domain["name"], "search_rescue");
   std::vector<std::string> names;
@@ -103,7 +103,8 @@ TEST(PddlImport, SearchRescueBecomesOneAutomatonPerRobotAndDoor) {
   ASSERT_TRUE(d1);
   const Json* open = FindTransition(*d1, "closed", "open_door_robot2_door1_at_door1");
   ASSERT_TRUE(open) << d1->dump(2);
-  EXPECT_EQ((*open)["guard"], "door1u[i]==open_door_robot2_door1_at_door1 /\\ robot2l[i]==at_door1");
+  EXPECT_EQ((*open)["guard"],
+            "door1u[i]==open_door_robot2_door1_at_door1 /\\ robot2l[i]==at_door1");
   // The drive away from the door would be protected; the pass needs the door open already.
   const Json* d3 = FindAutomaton(im.domain, "door3");
   ASSERT_TRUE(d3);
@@ -120,7 +121,8 @@ TEST(PddlImport, SearchRescueBecomesOneAutomatonPerRobotAndDoor) {
 // The optimum of the shipped search_rescue for this goal is 11 s (tests/planner/solve_test.cpp,
 // the thesis 5.3.2): both robots through door 1, one opening it.
 TEST(PddlImport, SearchRescueSolvesToTheShippedOptimum) {
-  Imported im = MustImport(Fixture("search_rescue_domain.pddl"), Fixture("search_rescue_problem.pddl"));
+  Imported im =
+      MustImport(Fixture("search_rescue_domain.pddl"), Fixture("search_rescue_problem.pddl"));
   Json t = SolveImported(im.domain, im.state_plan);
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "optimal");
@@ -257,7 +259,8 @@ TEST(PddlImport, BooleanFluentsNegativeOverAllAndFineDurations) {
 Source WithAction(const std::string& extra, int* line = nullptr) {
   Source s = Fixture("presentation_domain.pddl");
   auto close = s.text.rfind(')');
-  if (line) *line = 1 + static_cast<int>(std::count(s.text.begin(), s.text.begin() + close, '\n')) + 1;
+  if (line)
+    *line = 1 + static_cast<int>(std::count(s.text.begin(), s.text.begin() + close, '\n')) + 1;
   s.text.insert(close, "\n" + extra);
   return s;
 }
@@ -267,7 +270,8 @@ void ExpectOneIssue(const std::vector<Issue>& issues, const std::string& action,
   ASSERT_FALSE(issues.empty());
   bool found = false;
   for (const auto& i : issues)
-    found = found || (i.action == action && i.line == line && i.message.find(part) != std::string::npos);
+    found = found ||
+            (i.action == action && i.line == line && i.message.find(part) != std::string::npos);
   EXPECT_TRUE(found) << "want action '" << action << "' line " << line << " '" << part << "' in\n"
                      << Issues(issues);
   EXPECT_NE(issues[0].ToString().find("presentation_domain.pddl:" + std::to_string(line) + ":"),
@@ -282,7 +286,8 @@ TEST(PddlImportErrors, ActionChangingTwoStateVariables) {
     :duration (= ?duration 15)
     :condition (and (at start (comp-off ?c)) (at start (disconnected ?k)))
     :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c))
-                 (at start (not (disconnected ?k))) (at end (connected ?k)))))", &line));
+                 (at start (not (disconnected ?k))) (at end (connected ?k)))))",
+                                    &line));
   ExpectOneIssue(issues, "boot-and-connect", line + 5, "changes two state variables at once");
   EXPECT_NE(issues[0].message.find("(comp-off ?c) of ?c"), std::string::npos) << issues[0].message;
   EXPECT_NE(issues[0].message.find("of ?k"), std::string::npos) << issues[0].message;
@@ -294,7 +299,8 @@ TEST(PddlImportErrors, NumericFluentEffect) {
     :parameters (?c - computer)
     :duration (= ?duration 5)
     :condition (at start (comp-on ?c))
-    :effect (and (at end (increase (energy ?c) 10)))))", &line));
+    :effect (and (at end (increase (energy ?c) 10)))))",
+                                    &line));
   ExpectOneIssue(issues, "charge", line + 4, "numeric fluents");
 }
 
@@ -304,7 +310,8 @@ TEST(PddlImportErrors, NumericCondition) {
     :parameters (?c - computer)
     :duration (= ?duration 5)
     :condition (and (at start (comp-off ?c)) (at start (>= (energy ?c) 10)))
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))", &line));
+    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))",
+                                    &line));
   ExpectOneIssue(issues, "boot-fast", line + 3, "numeric fluents");
 }
 
@@ -314,7 +321,8 @@ TEST(PddlImportErrors, DisjunctiveCondition) {
     :parameters (?k - cable ?c - computer)
     :precondition (and (disconnected ?k)
                        (or (comp-off ?c) (comp-on ?c)))
-    :effect (and (not (disconnected ?k)) (connected ?k))))", &line));
+    :effect (and (not (disconnected ?k)) (connected ?k))))",
+                                    &line));
   ExpectOneIssue(issues, "connect-either", line + 3, "cannot be mapped");
 }
 
@@ -325,7 +333,8 @@ TEST(PddlImportErrors, AtEndCondition) {
     :duration (= ?duration 15)
     :condition (and (at start (comp-off ?c))
                     (at end (connected ?k)))
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))", &line));
+    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))",
+                                    &line));
   ExpectOneIssue(issues, "boot-connected", line + 4, "(at end (connected ?k)) cannot be mapped");
 }
 
@@ -335,12 +344,14 @@ TEST(PddlImportErrors, ConditionalAndUniversalEffects) {
     :parameters (?c - computer)
     :precondition (comp-on ?c)
     :effect (and (not (comp-on ?c)) (comp-off ?c)
-                 (when (connected conn) (disconnected conn)))))", &line));
+                 (when (connected conn) (disconnected conn)))))",
+                                    &line));
   ExpectOneIssue(issues, "reset", line + 4, "conditional effect");
   issues = MustFail(WithAction(R"((:action reset-all
     :parameters ()
     :precondition ()
-    :effect (forall (?c - computer) (and (not (comp-on ?c)) (comp-off ?c)))))", &line));
+    :effect (forall (?c - computer) (and (not (comp-on ?c)) (comp-off ?c)))))",
+                               &line));
   ExpectOneIssue(issues, "reset-all", line + 3, "quantified");
 }
 
@@ -350,7 +361,8 @@ TEST(PddlImportErrors, DeleteWithoutRequiringIt) {
     :parameters (?c - computer)
     :duration (= ?duration 1)
     :condition ()
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))", &line));
+    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))",
+                                    &line));
   ExpectOneIssue(issues, "force-on", line + 4, "without requiring it");
 }
 
@@ -359,7 +371,8 @@ TEST(PddlImportErrors, AddingAValueAloneBreaksMutualExclusion) {
   auto issues = MustFail(WithAction(R"((:action wake
     :parameters (?c - computer)
     :precondition ()
-    :effect (comp-on ?c)))", &line));
+    :effect (comp-on ?c)))",
+                                    &line));
   ExpectOneIssue(issues, "wake", line + 3, "without deleting another value");
 }
 
@@ -369,7 +382,8 @@ TEST(PddlImportErrors, StaticPredicateNeedsTheProblem) {
   for (const auto& i : issues) {
     statics = statics || (i.action == "open-door" &&
                           i.message.find("static predicate 'in-front'") != std::string::npos);
-    functions = functions || (i.action == "drive" && i.message.find("reads a function") != std::string::npos);
+    functions = functions ||
+                (i.action == "drive" && i.message.find("reads a function") != std::string::npos);
   }
   EXPECT_TRUE(statics && functions) << Issues(issues);
 }
@@ -396,7 +410,8 @@ TEST(PddlImportErrors, ProblemConstructs) {
 }
 
 TEST(PddlImportErrors, SyntaxErrorsAreLocated) {
-  Source s{"broken.pddl", "(define (domain x)\n  (:predicates (p ?a))\n  (:action a :parameters (?a)\n"};
+  Source s{"broken.pddl",
+           "(define (domain x)\n  (:predicates (p ?a))\n  (:action a :parameters (?a)\n"};
   auto issues = MustFail(s);
   ASSERT_EQ(issues.size(), 1u);
   EXPECT_EQ(issues[0].ToString(), "broken.pddl:3:3: '(' is never closed");
@@ -424,7 +439,8 @@ TEST(PddlImportErrors, TooManyGroundActionsIsRefused) {
   auto r = ImportPddl(d, Fixture("search_rescue_problem.pddl"), o);
   auto* issues = std::get_if<std::vector<Issue>>(&r);
   ASSERT_TRUE(issues);
-  EXPECT_NE(Issues(*issues).find("more than 3 ground actions"), std::string::npos) << Issues(*issues);
+  EXPECT_NE(Issues(*issues).find("more than 3 ground actions"), std::string::npos)
+      << Issues(*issues);
 }
 
 }  // namespace

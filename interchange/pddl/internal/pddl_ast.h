@@ -56,8 +56,8 @@ struct Action {
   std::string name;
   bool durative = false;
   std::vector<TypedName> params;
-  std::optional<NumExpr> min_duration;  // nullopt: 0
-  std::optional<NumExpr> max_duration;  // nullopt: unbounded
+  std::optional<NumExpr> min_duration;   // nullopt: 0
+  std::optional<NumExpr> max_duration;   // nullopt: unbounded
   std::vector<TimedLiteral> conditions;  // an instantaneous action's are all kStart
   std::vector<TimedLiteral> effects;     // kStart or kEnd (kStart for instantaneous actions)
   Pos pos;
