@@ -54,8 +54,8 @@ struct Imported {
 };
 
 // Reads a domain (and, when given, a problem whose objects and :init ground it; without one the
-// domain's constants are the objects) and writes the action model. On failure every issue found,
-// in input order.
+// domain's constants are the objects) and writes the action model. On failure every issue found
+// (reading stops at the first stage with issues: syntax, analysis, grounding, writing).
 std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
                                                       const std::optional<Source>& problem,
                                                       const ImportOptions& options = {});
