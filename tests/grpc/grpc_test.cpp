@@ -445,7 +445,10 @@ TEST(Grpc, HttpAndGrpcGiveTheSameAnswer) {
   GrpcServer s;
   for (const auto& [domain, file, objective] :
        {std::tuple{"presentation", "config/examples/presentation/test1_cot.json", "makespan"},
-        std::tuple{"search_rescue", "config/examples/search_rescue/test2.json", "cost"},
+        // Makespan: the first-plan engine's plan meets the lower bound, so both solves give the
+        // same plan (with cost, equally cheap plans from whichever exact engine proves first may
+        // differ between the two solves).
+        std::tuple{"search_rescue", "config/examples/search_rescue/test2.json", "makespan"},
         std::tuple{"presentation", "tests/data/deadline_infeasible.json", "cost"}}) {
     json body = {{"domain", domain}, {"state_plan", ReadJson(file)},
                  {"options", {{"objective", objective}, {"time_limit_ms", 30000}}}};
