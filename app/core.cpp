@@ -1,5 +1,6 @@
-// Core: opening (domains, session store, demo recordings), the domain catalog, sessions and the
-// service's state. The use cases live in core_solve.cpp and core_plan.cpp.
+// Core: opening (shipped domains, session and domain stores, demo recordings), sessions and the
+// service's state. The use cases live in core_solve.cpp, core_plan.cpp, core_replan.cpp and
+// core_domains.cpp.
 #include "app/core.h"
 
 #include <spdlog/spdlog.h>
@@ -58,6 +59,10 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
   if (auto* e = std::get_if<Error>(&store))
     return Error{e->code, "session store: " + e->message, e->details};
   impl->sessions = std::move(std::get<std::unique_ptr<SessionStore>>(store));
+  auto domain_store = OpenDomainStore(sc);
+  if (auto* e = std::get_if<Error>(&domain_store))
+    return Error{e->code, "domain store: " + e->message, e->details};
+  impl->stored_domains = std::move(std::get<std::unique_ptr<DomainStore>>(domain_store));
   if (cfg.demo && cfg.llm.base_url.empty() && cfg.llm.replay_dir.empty()) {
     auto replay = MakeReplayClient(cfg.recordings_dir, cfg.llm.model);
     if (auto* c = std::get_if<std::unique_ptr<LlmClient>>(&replay))
@@ -69,23 +74,6 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
   impl->ready = MiniZincAvailable(cfg.minizinc);
   if (!impl->ready) spdlog::warn("{}", Safe("minizinc is not runnable: solves fail"));
   return std::unique_ptr<Core>(new Core(std::move(impl)));
-}
-
-std::vector<DomainInfo> Core::ListDomains() const {
-  std::vector<DomainInfo> out;
-  for (const auto& [name, d] : impl_->domains) {
-    DomainInfo info{name, d.description, {}};
-    for (const auto& a : d.automata) info.automata.push_back(a.name);
-    out.push_back(std::move(info));
-  }
-  return out;
-}
-
-std::variant<Json, Error> Core::GetDomain(const std::string& name) const {
-  auto it = impl_->domains.find(name);
-  if (it == impl_->domains.end())
-    return Error{ErrorCode::kNotFound, "unknown domain '" + Echo(name) + "'", {}};
-  return DomainToJson(it->second);
 }
 
 std::variant<Json, Error> Core::GetSession(const std::string& id) {

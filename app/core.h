@@ -119,6 +119,10 @@ struct ReplanCall {
   Json request;
   RequestOptions options;
   std::string keep = "none";  // none | started | min_change
+  // What happened, in words ("robot 2 cannot open door 1"): the LLM turns it into `observed` and
+  // `blocked` (translator/report.h), merged with the request's own; the answer's "report" says
+  // what was understood.
+  std::optional<std::string> command;
 };
 
 enum class PlanStatus { kOptimal, kFeasible, kInfeasible, kUnknown };
@@ -159,7 +163,14 @@ struct ValidateAnswer {
 
 struct DomainInfo {
   std::string name, description;
-  std::vector<std::string> automata;
+  std::vector<std::string> automata;  // after template expansion
+  std::string source = "shipped";     // "shipped" (config/domains) | "stored" (through the API)
+  long version = 0;                   // stored domains: 1 on creation, +1 per replacement
+};
+
+// An action model drafted from words (contract section 12): never stored by the core.
+struct DraftAnswer {
+  Json document;  // {"action_model", "restatement", "questions", "warnings"?}
 };
 
 class Core {
@@ -179,9 +190,26 @@ class Core {
   std::variant<Json, Error> GetSession(const std::string& id);
   std::optional<Error> DeleteSession(const std::string& id);
 
-  std::vector<DomainInfo> ListDomains() const;
-  // The domain document (as the catalog holds it), or kNotFound.
-  std::variant<Json, Error> GetDomain(const std::string& name) const;
+  // Domains (contract section 12; app/core_domains.cpp). Shipped and stored domains share one
+  // namespace; shipped ones cannot be replaced or deleted (kConflict). A document is checked
+  // like an inline action model (templates allowed; pointers relative to the document) and
+  // stored as written. The store is the session store's (SQLite file or Redis), so stored
+  // domains survive restarts and every replica sees them.
+  std::variant<std::vector<DomainInfo>, Error> ListDomains() const;
+  // Shipped: the document as loaded; stored: as the client wrote it, or with `as_written` false
+  // as plain automata (templates expanded). kNotFound when unknown.
+  std::variant<Json, Error> GetDomain(const std::string& name, bool as_written = true) const;
+  // The new domain's name (the document's "name"); kConflict when the name exists.
+  std::variant<std::string, Error> CreateDomain(const Json& document);
+  // kNotFound when no stored domain has the name; the document's name must be `name`.
+  std::optional<Error> ReplaceDomain(const std::string& name, const Json& document);
+  // kConflict while a live session uses the domain, unless `force`.
+  std::optional<Error> DeleteDomain(const std::string& name, bool force);
+  // Every automaton of the domain drawn as one SVG document.
+  std::variant<std::string, Error> DomainDiagram(const std::string& name) const;
+  // An LLM drafts an action model from a description of the team; checked and repaired.
+  std::variant<DraftAnswer, Error> DraftDomain(const std::string& description,
+                                               const CallContext& ctx);
 
   // "replay" | "endpoint" | "recordings" | "none": which LLM answers /plan.
   std::string LlmMode() const;

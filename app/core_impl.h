@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "app/core.h"
+#include "app/domain_store.h"
 #include "app/job_gate.h"
 #include "app/session_store.h"
 #include "planner/model/state_plan.h"
@@ -24,10 +25,13 @@ struct Core::Impl {
   JobGate gate;
   std::map<std::string, Domain> domains;
   std::unique_ptr<SessionStore> sessions;
+  std::unique_ptr<DomainStore> stored_domains;  // domains created through the API
   std::shared_ptr<LlmClient> demo_llm;
   std::atomic<bool> stopping{false};
   bool ready = false;
 
+  // A shipped or stored domain by name; kNotFound (pointer /domain) when unknown.
+  std::variant<std::shared_ptr<const Domain>, Error> NamedDomain(const std::string& name) const;
   // A domain by name or inline action model; over the model budget: kTooLarge with `limit`.
   std::variant<std::shared_ptr<const Domain>, Error> ResolveDomain(const DomainRef& ref) const;
   // The state plan document checked against the domain; pointers prefixed with `prefix`.
@@ -42,6 +46,11 @@ struct Core::Impl {
   std::variant<Answer, Error> RunGated(
       SolveOptions o, const CallContext& ctx,
       const std::function<std::variant<Json, Error>(const SolveOptions&)>& run);
+  // A report in words (ReplanCall::command) read by the LLM: {"request": the request with the
+  // report's observed/blocked merged in, "report": what the answer shows}.
+  std::variant<Json, Error> ReadReportInWords(const Domain& d, const StatePlan& sp,
+                                              const Json& request, const std::string& command,
+                                              const CallContext& ctx) const;
   // The configured LLM client, else the demo recordings, else kUnavailable.
   std::variant<std::unique_ptr<LlmClient>, Error> Llm() const;
 };

@@ -5,6 +5,8 @@
 #include "app/session_doc.h"
 #include "planner/explain/summary.h"
 #include "planner/replan/replan.h"
+#include "translator/pipeline.h"
+#include "translator/report.h"
 
 namespace ctb::app {
 
@@ -20,7 +22,63 @@ Json ReplanRecord(const Json& request, const std::string& keep) {
   return r;
 }
 
+// The request with the report's fields: its observations where the request has none for that
+// automaton, its blocked transitions first (so /blocked/k of the report's is its own index).
+Json Merged(const Json& request, const Json& fields) {
+  Json out = request;
+  if (fields.contains("observed") && fields["observed"].is_object()) {
+    Json obs = fields["observed"];
+    if (request.contains("observed") && request["observed"].is_object())
+      for (const auto& [k, v] : request["observed"].items()) obs[k] = v;
+    out["observed"] = obs;
+  }
+  if (fields.contains("blocked") && fields["blocked"].is_array()) {
+    Json blocked = fields["blocked"];
+    if (request.contains("blocked") && request["blocked"].is_array())
+      for (const auto& b : request["blocked"]) blocked.push_back(b);
+    out["blocked"] = blocked;
+  }
+  return out;
+}
+
+// Checks a replanning request against the domain and state plan without solving.
+std::optional<Error> CheckRequest(const Domain& d, const StatePlan& sp, const Json& request) {
+  ReplanRequest rr;
+  if (auto e = ReadReplanRequest(request, rr, nullptr)) return e;
+  return CheckReplanRequest(d, sp, rr);
+}
+
 }  // namespace
+
+std::variant<Json, Error> Core::Impl::ReadReportInWords(const Domain& d, const StatePlan& sp,
+                                                        const Json& request,
+                                                        const std::string& command,
+                                                        const CallContext& ctx) const {
+  if (!request.contains("trajectory") || !request["trajectory"].is_object())
+    return Bad("a report in words needs the plan being executed", "/trajectory");
+  if (!request.contains("now") || !request["now"].is_number())
+    return Bad("a report in words needs the present time", "/now");
+  if (auto e = CheckRequest(d, sp, request)) return *e;  // the client's part is checked first
+  auto llm = Llm();
+  if (auto* e = std::get_if<Error>(&llm)) return *e;
+  if (ctx.observer) ctx.observer->OnStage("translating", Json::object());
+  ReportOptions o;
+  o.max_repairs = cfg.llm.max_repairs;
+  o.prompts_dir = cfg.prompts_dir;
+  auto check = [&](const Json& fields) -> std::vector<Diagnostic> {
+    auto e = CheckRequest(d, sp, Merged(request, fields));
+    return e ? e->details : std::vector<Diagnostic>{};
+  };
+  auto r = ReadReport(d, request["trajectory"], request["now"].get<double>(), command,
+                      *std::get<std::unique_ptr<LlmClient>>(llm), check, o);
+  if (auto* e = std::get_if<Error>(&r)) return *e;
+  const ReportResult& rep = std::get<ReportResult>(r);
+  Json report = {{"command", command}, {"restatement", rep.restatement}};
+  for (const char* k : {"observed", "blocked"})
+    if (rep.fields.contains(k)) report[k] = rep.fields[k];
+  if (!rep.warnings.empty()) report["warnings"] = WarningsJson(rep.warnings);
+  return Json{{"request", Merged(request, rep.fields)}, {"report", report}};
+}
 
 std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallContext& ctx) {
   std::optional<StoredSession> stored;
@@ -51,6 +109,13 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
   if (auto* e = std::get_if<Error>(&sp)) return *e;
   auto opts = impl_->MakeOptions(call.options);
   if (auto* e = std::get_if<Error>(&opts)) return *e;
+  Json report;
+  if (call.command) {
+    auto read = impl_->ReadReportInWords(domain, std::get<StatePlan>(sp), request, *call.command, ctx);
+    if (auto* e = std::get_if<Error>(&read)) return *e;
+    request = std::get<Json>(read)["request"];
+    report = std::get<Json>(read)["report"];
+  }
   ReplanRequest rr;
   if (auto e = ReadReplanRequest(request, rr, nullptr)) return *e;
   ReplanOptions ro;
@@ -69,10 +134,11 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
                                   });
   if (auto* e = std::get_if<Error>(&answered)) return *e;
   Answer answer = std::move(std::get<Answer>(answered));
+  if (!report.is_null()) answer.document["report"] = report;
   if (!stored) return answer;
   // The replan is a turn of the session; a plan it found becomes the session's current one.
-  Json turn = TurnRecord("(replan)", "", state_plan, answer.document);
-  turn["replan"] = ReplanRecord(call.request, call.keep);
+  Json turn = TurnRecord(call.command.value_or("(replan)"), "", state_plan, answer.document);
+  turn["replan"] = ReplanRecord(request, call.keep);
   UpdateSessionDoc(stored->doc, SessionFromDoc(stored->doc).conversation, state_plan, turn);
   switch (impl_->sessions->Update(*stored)) {
     case StoreResult::kOk: break;

@@ -113,13 +113,7 @@ std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::ResolveDomain(
     const DomainRef& ref) const {
   if (ref.name.has_value() == ref.action_model.has_value())
     return Bad("give exactly one of \"domain\" and \"action_model\"", "/domain");
-  if (ref.name) {
-    auto it = domains.find(*ref.name);
-    if (it == domains.end())
-      return Error{ErrorCode::kNotFound, "unknown domain '" + Echo(*ref.name) + "'",
-                   {{"/domain", std::nullopt, "see GET /domains"}}};
-    return std::shared_ptr<const Domain>(std::shared_ptr<const Domain>(), &it->second);
-  }
+  if (ref.name) return NamedDomain(*ref.name);
   if (auto over = CheckActionModel(*ref.action_model, cfg.budget, "/action_model")) {
     Error e = over->error;
     e.limit = over->ToJson().dump();

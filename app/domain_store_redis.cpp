@@ -9,16 +9,14 @@
 #include <mutex>
 
 #include "app/domain_store.h"
+#include "app/store_common.h"
 
 namespace ctb::app {
 
 namespace {
 
-long NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+using store::Dump;
+using store::NowMs;
 
 // KEYS: domain key, index; ARGV: name, now, max, doc. 1 created, 0 exists, -1 full.
 const char* kCreate = R"(
@@ -47,37 +45,16 @@ return n
 class RedisDomainStore : public DomainStore {
  public:
   RedisDomainStore(std::string host, int port, int db, long max_domains)
-      : host_(std::move(host)), port_(port), db_(db), max_(max_domains) {}
-  ~RedisDomainStore() override {
-    if (c_) redisFree(c_);
-  }
+      : conn_(std::move(host), port, db), max_(max_domains) {}
 
-  bool Connect(std::string& error) {
-    if (c_) redisFree(c_);
-    timeval tv{2, 0};
-    c_ = redisConnectWithTimeout(host_.c_str(), port_, tv);
-    if (!c_ || c_->err) {
-      error = "cannot connect to redis at " + host_ + ":" + std::to_string(port_) + ": " +
-              (c_ ? c_->errstr : "out of memory");
-      if (c_) redisFree(c_);
-      c_ = nullptr;
-      return false;
-    }
-    redisSetTimeout(c_, tv);
-    Reply r(Command({"SELECT", std::to_string(db_)}));
-    if (!r.p || r.p->type == REDIS_REPLY_ERROR) {
-      error = "cannot select redis database " + std::to_string(db_);
-      return false;
-    }
-    return true;
-  }
+  bool Connect(std::string& error) { return conn_.Connect(error); }
 
   std::variant<std::optional<StoredDomain>, Error> Get(const std::string& name) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply r(Call({"HMGET", Key(name), "version", "created_ms", "updated_ms", "doc"}));
-    if (!r.p || r.p->type != REDIS_REPLY_ARRAY || r.p->elements != 4) return Unavailable();
+    store::Reply r(conn_.Call({"HMGET", Key(name), "version", "created_ms", "updated_ms", "doc"}));
+    if (!r || r->type != REDIS_REPLY_ARRAY || r->elements != 4) return Unavailable();
     auto str = [&](std::size_t i) -> std::optional<std::string> {
-      const redisReply* e = r.p->element[i];
+      const redisReply* e = r->element[i];
       if (e->type != REDIS_REPLY_STRING) return std::nullopt;
       return std::string(e->str, e->len);
     };
@@ -94,12 +71,12 @@ class RedisDomainStore : public DomainStore {
 
   std::variant<std::vector<std::string>, Error> List() override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply r(Call({"SMEMBERS", kIndex}));
-    if (!r.p || r.p->type != REDIS_REPLY_ARRAY) return Unavailable();
+    store::Reply r(conn_.Call({"SMEMBERS", kIndex}));
+    if (!r || r->type != REDIS_REPLY_ARRAY) return Unavailable();
     std::vector<std::string> out;
-    for (std::size_t i = 0; i < r.p->elements; ++i)
-      if (r.p->element[i]->type == REDIS_REPLY_STRING)
-        out.emplace_back(r.p->element[i]->str, r.p->element[i]->len);
+    for (std::size_t i = 0; i < r->elements; ++i)
+      if (r->element[i]->type == REDIS_REPLY_STRING)
+        out.emplace_back(r->element[i]->str, r->element[i]->len);
     std::sort(out.begin(), out.end());
     return out;
   }
@@ -107,11 +84,11 @@ class RedisDomainStore : public DomainStore {
   StoreResult Create(StoredDomain& d) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    Reply r(Call({"EVAL", kCreate, "2", Key(d.name), kIndex, d.name, std::to_string(now),
+    store::Reply r(conn_.Call({"EVAL", kCreate, "2", Key(d.name), kIndex, d.name, std::to_string(now),
                   std::to_string(max_), Dump(d.doc)}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    if (r.p->integer == 0) return StoreResult::kConflict;
-    if (r.p->integer < 0) return StoreResult::kFull;
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    if (r->integer == 0) return StoreResult::kConflict;
+    if (r->integer < 0) return StoreResult::kFull;
     d.version = 1;
     d.created_ms = d.updated_ms = now;
     return StoreResult::kOk;
@@ -120,68 +97,35 @@ class RedisDomainStore : public DomainStore {
   StoreResult Replace(StoredDomain& d) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    Reply r(Call({"EVAL", kReplace, "1", Key(d.name), std::to_string(now), Dump(d.doc)}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    if (r.p->integer < 0) return StoreResult::kNotFound;
-    d.version = static_cast<long>(r.p->integer);
+    store::Reply r(conn_.Call({"EVAL", kReplace, "1", Key(d.name), std::to_string(now), Dump(d.doc)}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    if (r->integer < 0) return StoreResult::kNotFound;
+    d.version = static_cast<long>(r->integer);
     d.updated_ms = now;
     return StoreResult::kOk;
   }
 
   StoreResult Delete(const std::string& name) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply r(Call({"EVAL", kDelete, "2", Key(name), kIndex, name}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    return r.p->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
+    store::Reply r(conn_.Call({"EVAL", kDelete, "2", Key(name), kIndex, name}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    return r->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
   std::string Describe() const override {
-    return "redis://" + host_ + ":" + std::to_string(port_) + "/" + std::to_string(db_) +
-           " (domains)";
+    return conn_.Describe() + " (domains)";
   }
 
  private:
-  struct Reply {
-    explicit Reply(redisReply* r) : p(r) {}
-    ~Reply() {
-      if (p) freeReplyObject(p);
-    }
-    Reply(const Reply&) = delete;
-    Reply& operator=(const Reply&) = delete;
-    redisReply* p;
-  };
   static std::string Key(const std::string& name) { return "ctb:domain:" + name; }
   static constexpr const char* kIndex = "ctb:domains";
-  static std::string Dump(const Json& j) {
-    return j.dump(-1, ' ', false, Json::error_handler_t::replace);
-  }
   static Error Unavailable() {
     return Error{ErrorCode::kUnavailable, "the domain store failed; retry later", {}};
   }
 
-  redisReply* Command(const std::vector<std::string>& args) {
-    if (!c_) return nullptr;
-    std::vector<const char*> argv;
-    std::vector<size_t> lens;
-    for (const auto& a : args) {
-      argv.push_back(a.data());
-      lens.push_back(a.size());
-    }
-    return static_cast<redisReply*>(
-        redisCommandArgv(c_, static_cast<int>(argv.size()), argv.data(), lens.data()));
-  }
-  redisReply* Call(const std::vector<std::string>& args) {
-    redisReply* r = Command(args);
-    if (r) return r;
-    std::string error;
-    if (!Connect(error)) return nullptr;
-    return Command(args);
-  }
 
   std::mutex mu_;
-  redisContext* c_ = nullptr;
-  std::string host_;
-  int port_, db_;
+  store::RedisConn conn_;
   long max_;
 };
 

@@ -7,45 +7,15 @@
 #include <mutex>
 
 #include "app/domain_store.h"
+#include "app/store_common.h"
 
 namespace ctb::app {
 
 namespace {
 
-long NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-class Stmt {
- public:
-  Stmt(sqlite3* db, const char* sql) { sqlite3_prepare_v2(db, sql, -1, &s_, nullptr); }
-  ~Stmt() { sqlite3_finalize(s_); }
-  Stmt(const Stmt&) = delete;
-  Stmt& operator=(const Stmt&) = delete;
-  bool ok() const { return s_ != nullptr; }
-  Stmt& Bind(int i, const std::string& v) {
-    sqlite3_bind_text(s_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
-    return *this;
-  }
-  Stmt& Bind(int i, long v) {
-    sqlite3_bind_int64(s_, i, v);
-    return *this;
-  }
-  int Step() { return sqlite3_step(s_); }
-  long Int(int i) { return static_cast<long>(sqlite3_column_int64(s_, i)); }
-  std::string Text(int i) {
-    const auto* t = sqlite3_column_text(s_, i);
-    return t ? std::string(reinterpret_cast<const char*>(t), sqlite3_column_bytes(s_, i))
-             : std::string();
-  }
-
- private:
-  sqlite3_stmt* s_ = nullptr;
-};
-
-std::string Dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+using store::Dump;
+using store::NowMs;
+using store::Stmt;
 
 class SqliteDomainStore : public DomainStore {
  public:
@@ -182,6 +152,11 @@ std::unique_ptr<DomainStore> OpenSqliteDomainStore(const std::string& path, long
 std::variant<std::unique_ptr<DomainStore>, Error> OpenDomainStore(const SessionStoreConfig& c,
                                                                  long max_domains) {
   std::string error;
+  if (c.url == "memory") {  // the CLI's local mode: domains die with the process
+    auto s = OpenSqliteDomainStore(":memory:", max_domains, error);
+    if (!s) return Error{ErrorCode::kUnavailable, error, {}};
+    return s;
+  }
   if (c.url.empty() || c.url == "sqlite") {
     std::error_code ec;
     std::filesystem::create_directories(c.data_dir, ec);

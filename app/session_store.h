@@ -45,6 +45,9 @@ class SessionStore {
   virtual StoreResult Delete(const std::string& id) = 0;
   // Live sessions (expired ones are dropped first); -1 when the store fails.
   virtual long Count() = 0;
+  // Live sessions whose document's "domain" is `domain`; -1 when the store fails. Used to refuse
+  // deleting a domain in use (contract section 12); a session created meanwhile is not seen.
+  virtual long CountUsing(const std::string& domain) = 0;
   virtual std::string Describe() const = 0;  // for the start-up log, no secrets
 };
 

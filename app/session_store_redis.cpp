@@ -9,16 +9,13 @@
 #include <mutex>
 
 #include "app/session_store.h"
+#include "app/store_common.h"
 
 namespace ctb::app {
 
 namespace {
 
-long NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+using store::NowMs;
 
 // KEYS: session key, index; ARGV: id, now, idle_ms, max, doc. 1 created, 0 full.
 const char* kCreate = R"(
@@ -42,41 +39,33 @@ redis.call('ZADD', KEYS[2], ARGV[2], ARGV[1])
 return 1
 )";
 
+// KEYS: index; ARGV: now, idle_ms, domain. The live sessions whose doc's domain is ARGV[3].
+const char* kCountUsing = R"(
+local n = 0
+for _, id in ipairs(redis.call('ZRANGEBYSCORE', KEYS[1], tonumber(ARGV[1]) - tonumber(ARGV[2]), '+inf')) do
+  local doc = redis.call('HGET', 'ctb:session:' .. id, 'doc')
+  if doc then
+    local ok, d = pcall(cjson.decode, doc)
+    if ok and type(d) == 'table' and d['domain'] == ARGV[3] then n = n + 1 end
+  end
+end
+return n
+)";
+
 class RedisStore : public SessionStore {
  public:
   RedisStore(std::string host, int port, int db, long max_sessions, long idle_s)
-      : host_(std::move(host)), port_(port), db_(db), max_(max_sessions), idle_ms_(idle_s * 1000) {}
-  ~RedisStore() override {
-    if (c_) redisFree(c_);
-  }
+      : conn_(std::move(host), port, db), max_(max_sessions), idle_ms_(idle_s * 1000) {}
 
-  bool Connect(std::string& error) {
-    if (c_) redisFree(c_);
-    timeval tv{2, 0};
-    c_ = redisConnectWithTimeout(host_.c_str(), port_, tv);
-    if (!c_ || c_->err) {
-      error = "cannot connect to redis at " + host_ + ":" + std::to_string(port_) + ": " +
-              (c_ ? c_->errstr : "out of memory");
-      if (c_) redisFree(c_);
-      c_ = nullptr;
-      return false;
-    }
-    redisSetTimeout(c_, tv);
-    Reply r(Command({"SELECT", std::to_string(db_)}));
-    if (!r.p || r.p->type == REDIS_REPLY_ERROR) {
-      error = "cannot select redis database " + std::to_string(db_);
-      return false;
-    }
-    return true;
-  }
+  bool Connect(std::string& error) { return conn_.Connect(error); }
 
   std::variant<std::optional<StoredSession>, Error> Get(const std::string& id) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply r(Call({"HMGET", Key(id), "version", "created_ms", "updated_ms", "doc"}));
-    if (!r.p || r.p->type != REDIS_REPLY_ARRAY || r.p->elements != 4)
+    store::Reply r(conn_.Call({"HMGET", Key(id), "version", "created_ms", "updated_ms", "doc"}));
+    if (!r || r->type != REDIS_REPLY_ARRAY || r->elements != 4)
       return Error{ErrorCode::kUnavailable, "the session store failed; retry later", {}};
     auto str = [&](std::size_t i) -> std::optional<std::string> {
-      const redisReply* e = r.p->element[i];
+      const redisReply* e = r->element[i];
       if (e->type != REDIS_REPLY_STRING) return std::nullopt;
       return std::string(e->str, e->len);
     };
@@ -94,10 +83,10 @@ class RedisStore : public SessionStore {
   StoreResult Create(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    Reply r(Call({"EVAL", kCreate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
-                  std::to_string(max_), s.doc.dump(-1, ' ', false, Json::error_handler_t::replace)}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    if (r.p->integer == 0) return StoreResult::kFull;
+    store::Reply r(conn_.Call({"EVAL", kCreate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
+                  std::to_string(max_), store::Dump(s.doc)}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    if (r->integer == 0) return StoreResult::kFull;
     s.version = 1;
     s.created_ms = s.updated_ms = now;
     return StoreResult::kOk;
@@ -106,11 +95,11 @@ class RedisStore : public SessionStore {
   StoreResult Update(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    Reply r(Call({"EVAL", kUpdate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
-                  std::to_string(s.version), s.doc.dump(-1, ' ', false, Json::error_handler_t::replace)}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    if (r.p->integer == -1) return StoreResult::kNotFound;
-    if (r.p->integer == 0) return StoreResult::kConflict;
+    store::Reply r(conn_.Call({"EVAL", kUpdate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
+                  std::to_string(s.version), store::Dump(s.doc)}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    if (r->integer == -1) return StoreResult::kNotFound;
+    if (r->integer == 0) return StoreResult::kConflict;
     ++s.version;
     s.updated_ms = now;
     return StoreResult::kOk;
@@ -118,60 +107,38 @@ class RedisStore : public SessionStore {
 
   StoreResult Delete(const std::string& id) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply r(Call({"DEL", Key(id)}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    Reply z(Call({"ZREM", kIndex, id}));
-    return r.p->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
+    store::Reply r(conn_.Call({"DEL", Key(id)}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
+    store::Reply z(conn_.Call({"ZREM", kIndex, id}));
+    return r->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
   long Count() override {
     std::lock_guard<std::mutex> lock(mu_);
-    Reply d(Call({"ZREMRANGEBYSCORE", kIndex, "-inf", std::to_string(NowMs() - idle_ms_)}));
-    Reply r(Call({"ZCARD", kIndex}));
-    if (!r.p || r.p->type != REDIS_REPLY_INTEGER) return -1;
-    return static_cast<long>(r.p->integer);
+    store::Reply d(conn_.Call({"ZREMRANGEBYSCORE", kIndex, "-inf", std::to_string(NowMs() - idle_ms_)}));
+    store::Reply r(conn_.Call({"ZCARD", kIndex}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return -1;
+    return static_cast<long>(r->integer);
+  }
+
+  long CountUsing(const std::string& domain) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    store::Reply r(conn_.Call({"EVAL", kCountUsing, "1", kIndex, std::to_string(NowMs()), std::to_string(idle_ms_), domain}));
+    if (!r || r->type != REDIS_REPLY_INTEGER) return -1;
+    return static_cast<long>(r->integer);
   }
 
   std::string Describe() const override {
-    return "redis://" + host_ + ":" + std::to_string(port_) + "/" + std::to_string(db_);
+    return conn_.Describe();
   }
 
  private:
-  struct Reply {
-    explicit Reply(redisReply* r) : p(r) {}
-    ~Reply() {
-      if (p) freeReplyObject(p);
-    }
-    Reply(const Reply&) = delete;
-    Reply& operator=(const Reply&) = delete;
-    redisReply* p;
-  };
   static std::string Key(const std::string& id) { return "ctb:session:" + id; }
   static constexpr const char* kIndex = "ctb:sessions";
 
-  redisReply* Command(const std::vector<std::string>& args) {
-    if (!c_) return nullptr;
-    std::vector<const char*> argv;
-    std::vector<size_t> lens;
-    for (const auto& a : args) {
-      argv.push_back(a.data());
-      lens.push_back(a.size());
-    }
-    return static_cast<redisReply*>(redisCommandArgv(c_, static_cast<int>(argv.size()), argv.data(), lens.data()));
-  }
-  // One command; on a broken connection, reconnect once and retry.
-  redisReply* Call(const std::vector<std::string>& args) {
-    redisReply* r = Command(args);
-    if (r) return r;
-    std::string error;
-    if (!Connect(error)) return nullptr;
-    return Command(args);
-  }
 
   std::mutex mu_;
-  redisContext* c_ = nullptr;
-  std::string host_;
-  int port_, db_;
+  store::RedisConn conn_;
   long max_, idle_ms_;
 };
 

@@ -8,42 +8,15 @@
 #include <mutex>
 
 #include "app/session_store.h"
+#include "app/store_common.h"
 
 namespace ctb::app {
 
 namespace {
 
-long NowMs() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-class Stmt {
- public:
-  Stmt(sqlite3* db, const char* sql) { sqlite3_prepare_v2(db, sql, -1, &s_, nullptr); }
-  ~Stmt() { sqlite3_finalize(s_); }
-  Stmt(const Stmt&) = delete;
-  Stmt& operator=(const Stmt&) = delete;
-  bool ok() const { return s_ != nullptr; }
-  Stmt& Bind(int i, const std::string& v) {
-    sqlite3_bind_text(s_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
-    return *this;
-  }
-  Stmt& Bind(int i, long v) {
-    sqlite3_bind_int64(s_, i, v);
-    return *this;
-  }
-  int Step() { return sqlite3_step(s_); }
-  long Int(int i) { return static_cast<long>(sqlite3_column_int64(s_, i)); }
-  std::string Text(int i) {
-    const auto* t = sqlite3_column_text(s_, i);
-    return t ? std::string(reinterpret_cast<const char*>(t), sqlite3_column_bytes(s_, i)) : std::string();
-  }
-
- private:
-  sqlite3_stmt* s_ = nullptr;
-};
+using store::Dump;
+using store::NowMs;
+using store::Stmt;
 
 class SqliteStore : public SessionStore {
  public:
@@ -82,7 +55,7 @@ class SqliteStore : public SessionStore {
     }
     Stmt ins(db_, "INSERT INTO sessions(id, version, created_ms, updated_ms, doc) VALUES (?, 1, ?, ?, ?)");
     if (!ins.ok()) return Rollback();
-    ins.Bind(1, s.id).Bind(2, now).Bind(3, now).Bind(4, s.doc.dump(-1, ' ', false, Json::error_handler_t::replace));
+    ins.Bind(1, s.id).Bind(2, now).Bind(3, now).Bind(4, Dump(s.doc));
     if (ins.Step() != SQLITE_DONE) return Rollback();
     if (!Exec("COMMIT")) return Rollback();
     s.version = 1;
@@ -96,7 +69,7 @@ class SqliteStore : public SessionStore {
     Stmt up(db_, "UPDATE sessions SET version = version + 1, updated_ms = ?, doc = ? "
                  "WHERE id = ? AND version = ? AND updated_ms >= ?");
     if (!up.ok()) return StoreResult::kUnavailable;
-    up.Bind(1, now).Bind(2, s.doc.dump(-1, ' ', false, Json::error_handler_t::replace)).Bind(3, s.id);
+    up.Bind(1, now).Bind(2, Dump(s.doc)).Bind(3, s.id);
     up.Bind(4, s.version).Bind(5, now - idle_ms_);
     if (up.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
     if (sqlite3_changes(db_) == 1) {
@@ -123,6 +96,15 @@ class SqliteStore : public SessionStore {
     Expire(NowMs());
     Stmt count(db_, "SELECT COUNT(*) FROM sessions");
     if (!count.ok() || count.Step() != SQLITE_ROW) return -1;
+    return count.Int(0);
+  }
+
+  long CountUsing(const std::string& domain) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt count(db_, "SELECT COUNT(*) FROM sessions WHERE updated_ms >= ? AND json_extract(doc, '$.domain') = ?");
+    if (!count.ok()) return -1;
+    count.Bind(1, NowMs() - idle_ms_).Bind(2, domain);
+    if (count.Step() != SQLITE_ROW) return -1;
     return count.Int(0);
   }
 

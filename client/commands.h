@@ -51,9 +51,11 @@ Runner AddReplan(CLI::App& app);
 // goes on; 0 when the goal is reached, 1 when a replan is infeasible or fails, 2 bad usage.
 Runner AddExecute(CLI::App& app);
 
-// `ctburton domain check|expand|draw FILE [--set N=8]` and `ctburton domain draft "words"`:
-// check prints "valid: ..." or one located error a line (exit 1); expand prints the document with
-// its templates expanded; draw prints SVG; draft prints {action_model, restatement, questions}.
+// `ctburton domain check|expand|draw FILE [--set N=8]`, `ctburton domain draft "words"` and
+// `ctburton domain import-pddl DOMAIN.pddl [PROBLEM.pddl]`: check prints "valid: ..." or one
+// located error a line (exit 1); expand prints the document with its templates expanded; draw
+// prints SVG; draft prints {action_model, restatement, questions}; import-pddl prints the action
+// model (issues on stderr, exit 1).
 Runner AddDomain(CLI::App& app);
 
 // `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.

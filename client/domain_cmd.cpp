@@ -1,11 +1,13 @@
-// `ctburton domain check|expand|draw|draft`: action models as files (docs/domains.md).
+// `ctburton domain check|expand|draw|draft|import-pddl`: action models as files (docs/domains.md).
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "client/commands.h"
+#include "interchange/pddl/import.h"
 #include "planner/diagram/diagram.h"
 #include "planner/model/catalog.h"
 #include "planner/model/templates.h"
@@ -23,6 +25,9 @@ struct DomainOptions {
   std::string out;
   std::string description;
   int max_repairs = -1;
+  std::string problem;         // import-pddl: the PDDL problem file
+  std::string state_plan_out;  // import-pddl: where the problem's state plan goes
+  std::string name;            // import-pddl: the domain's name
 };
 
 // Reads FILE (a path) or a shipped domain NAME, expands it with the overrides, loads it. Prints
@@ -137,11 +142,67 @@ int RunDraft(const DomainOptions& o) {
   return 0;
 }
 
+std::optional<std::string> ReadText(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return std::nullopt;
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// `domain import-pddl DOMAIN.pddl [PROBLEM.pddl]`: the action model on stdout (or --out), the
+// state plan of the problem to --state-plan-out; issues to stderr, exit 1.
+int RunImportPddl(const DomainOptions& o) {
+  if (!o.state_plan_out.empty() && o.problem.empty()) {
+    std::cerr << "error: --state-plan-out needs a PROBLEM file\n";
+    return 2;
+  }
+  pddl::Source domain{o.file, ""};
+  std::optional<pddl::Source> problem;
+  for (const std::string* path : {&o.file, &o.problem}) {
+    if (path->empty()) continue;
+    auto text = ReadText(*path);
+    if (!text) {
+      std::cerr << "error: cannot read '" << *path << "'\n";
+      return 1;
+    }
+    if (path == &o.file) domain.text = std::move(*text);
+    else problem = pddl::Source{*path, std::move(*text)};
+  }
+  pddl::ImportOptions io;
+  io.name = o.name;
+  auto r = pddl::ImportPddl(domain, problem, io);
+  if (auto* issues = std::get_if<std::vector<pddl::Issue>>(&r)) {
+    for (const auto& i : *issues) std::cerr << "error: " << ValidUtf8(i.ToString()) << "\n";
+    return 1;
+  }
+  const pddl::Imported& im = std::get<pddl::Imported>(r);
+  for (const auto& w : im.warnings) std::cerr << "warning: " << ValidUtf8(w.ToString()) << "\n";
+  auto dump = [](const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"; };
+  if (int rc = Write(o, dump(im.domain))) return rc;
+  if (!o.state_plan_out.empty()) {
+    DomainOptions sp = o;
+    sp.out = o.state_plan_out;
+    if (int rc = Write(sp, dump(im.state_plan))) return rc;
+  }
+  if (!o.out.empty() && o.out != "-") {
+    std::size_t locations = 0, transitions = 0;
+    for (const auto& a : im.domain["automata"]) {
+      locations += a["locations"].size();
+      transitions += a["transitions"].size();
+    }
+    std::cout << "imported: " << im.domain["name"].get<std::string>() << " ("
+              << im.domain["automata"].size() << " automata, " << locations << " locations, "
+              << transitions << " transitions from " << im.ground_actions << " ground actions)\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 Runner AddDomain(CLI::App& app) {
   auto o = std::make_shared<DomainOptions>();
-  CLI::App* dom = app.add_subcommand("domain", "Check, expand, draw or draft an action model");
+  CLI::App* dom = app.add_subcommand("domain", "Check, expand, draw, draft or import an action model");
   dom->require_subcommand(1);
   auto file_cmd = [&](const char* name, const char* help) {
     CLI::App* sub = dom->add_subcommand(name, help);
@@ -160,12 +221,21 @@ Runner AddDomain(CLI::App& app) {
   draft->add_option("description", o->description, "The team in plain words")->required();
   draft->add_option("-o,--out", o->out, "Also write the drafted action model to this file");
   draft->add_option("--max-repairs", o->max_repairs, "Repair requests (default CTB_LLM_MAX_REPAIRS)");
-  return [o, dom, check, expand, draw, draft]() {
+  CLI::App* import = dom->add_subcommand(
+      "import-pddl", "Import a PDDL 2.1 temporal domain (and problem) as an action model");
+  import->add_option("domain", o->file, "PDDL domain file")->required();
+  import->add_option("problem", o->problem, "PDDL problem file: its objects and :init ground the domain");
+  import->add_option("-o,--out", o->out, "Write the action model to this file instead of stdout");
+  import->add_option("--state-plan-out", o->state_plan_out,
+                     "Write the problem's initial state and goal as a state plan to this file");
+  import->add_option("--name", o->name, "The domain's name (default: the PDDL domain's)");
+  return [o, dom, check, expand, draw, draft, import]() {
     if (!dom->parsed()) return -1;
     if (check->parsed()) return RunCheck(*o);
     if (expand->parsed()) return RunExpand(*o);
     if (draw->parsed()) return RunDraw(*o);
     if (draft->parsed()) return RunDraft(*o);
+    if (import->parsed()) return RunImportPddl(*o);
     return 2;
   };
 }

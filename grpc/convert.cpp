@@ -94,6 +94,7 @@ pb::PlanResult ResultOf(const app::Answer& a) {
     for (const auto& s : doc["state_plan_summary"]) FromJson(s, r.add_state_plan_summary());
   if (doc.contains("explanation")) FromJson(doc["explanation"], r.mutable_explanation());
   if (doc.contains("diff")) FromJson(doc["diff"], r.mutable_diff());
+  if (doc.contains("report")) FromJson(doc["report"], r.mutable_report());
   for (const auto& [k, v] : a.metrics) (*r.mutable_metrics())[k] = v;
   if (!a.infeasible_for.empty()) (*r.mutable_metrics())["infeasible_for"] = a.infeasible_for;
   return r;

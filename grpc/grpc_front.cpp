@@ -108,20 +108,73 @@ class PlannerService final : public pb::Planner::Service {
   Status ListDomains(ServerContext* c, const pb::ListDomainsRequest*,
                      pb::ListDomainsResult* r) override {
     return Run(c, "ListDomains", [&]() -> Status {
-      for (const auto& d : core_.ListDomains()) {
+      auto list = core_.ListDomains();
+      if (auto* e = std::get_if<Error>(&list)) return StatusOf(*e);
+      for (const auto& d : std::get<std::vector<app::DomainInfo>>(list)) {
         auto* x = r->add_domains();
         x->set_name(d.name);
         x->set_description(d.description);
         for (const auto& a : d.automata) x->add_automata(a);
+        x->set_source(d.source);
+        x->set_version(static_cast<int32_t>(d.version));
       }
       return Status::OK;
     });
   }
   Status GetDomain(ServerContext* c, const pb::GetDomainRequest* q, pb::ActionModel* r) override {
     return Run(c, "GetDomain", [&]() -> Status {
-      auto d = core_.GetDomain(q->name());
+      auto d = core_.GetDomain(q->name(), false);
       if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
       if (auto err = FromJson(std::get<Json>(d), r)) return Status(grpc::StatusCode::INTERNAL, *err);
+      return Status::OK;
+    });
+  }
+  Status GetDomainDocument(ServerContext* c, const pb::GetDomainRequest* q,
+                           pb::DomainDocument* r) override {
+    return Run(c, "GetDomainDocument", [&]() -> Status {
+      auto d = core_.GetDomain(q->name());
+      if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
+      if (auto err = FromJson(std::get<Json>(d), r->mutable_document()))
+        return Status(grpc::StatusCode::INTERNAL, *err);
+      return Status::OK;
+    });
+  }
+  Status CreateDomain(ServerContext* c, const pb::DomainDocument* q, pb::DomainName* r) override {
+    return Run(c, "CreateDomain", [&]() -> Status {
+      auto n = core_.CreateDomain(ToJson(q->document()));
+      if (auto* e = std::get_if<Error>(&n)) return StatusOf(*e);
+      r->set_name(std::get<std::string>(n));
+      return Status::OK;
+    });
+  }
+  Status ReplaceDomain(ServerContext* c, const pb::ReplaceDomainRequest* q, pb::DomainName* r) override {
+    return Run(c, "ReplaceDomain", [&]() -> Status {
+      if (auto e = core_.ReplaceDomain(q->name(), ToJson(q->document()))) return StatusOf(*e);
+      r->set_name(q->name());
+      return Status::OK;
+    });
+  }
+  Status DeleteDomain(ServerContext* c, const pb::DeleteDomainRequest* q,
+                      pb::DeleteDomainResult*) override {
+    return Run(c, "DeleteDomain", [&]() -> Status {
+      if (auto e = core_.DeleteDomain(q->name(), q->force())) return StatusOf(*e);
+      return Status::OK;
+    });
+  }
+  Status GetDomainDiagram(ServerContext* c, const pb::GetDomainRequest* q, pb::DomainDiagram* r) override {
+    return Run(c, "GetDomainDiagram", [&]() -> Status {
+      auto svg = core_.DomainDiagram(q->name());
+      if (auto* e = std::get_if<Error>(&svg)) return StatusOf(*e);
+      r->set_svg(std::get<std::string>(svg));
+      return Status::OK;
+    });
+  }
+  Status DraftDomain(ServerContext* c, const pb::DraftDomainRequest* q, pb::DraftDomainResult* r) override {
+    return Run(c, "DraftDomain", [&]() -> Status {
+      auto d = core_.DraftDomain(q->description(), Context(c, nullptr));
+      if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
+      if (auto err = FromJson(std::get<app::DraftAnswer>(d).document, r))
+        return Status(grpc::StatusCode::INTERNAL, *err);
       return Status::OK;
     });
   }
@@ -180,6 +233,7 @@ class PlannerService final : public pb::Planner::Service {
   app::ReplanCall ReplanCallOf(const pb::ReplanRequest& q) {
     app::ReplanCall call;
     if (q.has_session()) call.session = q.session();
+    if (q.has_command()) call.command = q.command();
     if (q.has_domain()) call.domain.name = q.domain();
     if (q.has_action_model()) call.domain.action_model = ToJson(q.action_model());
     if (q.has_state_plan()) call.state_plan = ToJson(q.state_plan());
@@ -190,8 +244,10 @@ class PlannerService final : public pb::Planner::Service {
       if (body.contains(k)) request[k] = body[k];
     if (q.observed_size() > 0) {
       request["observed"] = Json::object();
-      for (const auto& [name, ob] : q.observed())
-        request["observed"][name] = {{"location", ob.location()}, {"since", ob.since()}};
+      for (const auto& [name, ob] : q.observed()) {
+        request["observed"][name] = {{"location", ob.location()}};
+        if (ob.has_since()) request["observed"][name]["since"] = ob.since();
+      }
     }
     if (q.has_trajectory()) {
       Json t = ToJson(q.trajectory());

@@ -223,9 +223,13 @@ class HttpFrontEnd::Impl {
     auto body = Body(req, res);
     if (!body) return;
     if (auto e = CheckKeys(*body, {"session", "domain", "action_model", "state_plan", "trajectory",
-                                   "now", "executed", "observed", "blocked", "options", "stream"}))
+                                   "now", "executed", "observed", "blocked", "options", "stream",
+                                   "command"}))
       return SendError(res, *e);
     app::ReplanCall call;
+    auto command = OptString(*body, "command", "\"command\" must be a string: what happened, in words");
+    if (auto* e = std::get_if<Error>(&command)) return SendError(res, *e);
+    call.command = std::get<std::optional<std::string>>(command);
     auto session = OptString(*body, "session", "\"session\" must be a string");
     if (auto* e = std::get_if<Error>(&session)) return SendError(res, *e);
     call.session = std::get<std::optional<std::string>>(session);
@@ -369,6 +373,69 @@ class HttpFrontEnd::Impl {
     });
   }
 
+  // Contract section 12: shipped and stored domains, their diagrams, drafts from words.
+  void DomainRoutes() {
+    svr_.Get("/domains", Wrap("/domains", [this](auto&, auto& s) {
+      auto r = core_.ListDomains();
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      Json list = Json::array();
+      for (const auto& d : std::get<std::vector<app::DomainInfo>>(r)) {
+        Json item = {{"name", d.name}, {"description", d.description}, {"automata", d.automata},
+                     {"source", d.source}};
+        if (d.source == "stored") item["version"] = d.version;
+        list.push_back(std::move(item));
+      }
+      SendJson(s, 200, {{"domains", list}});
+    }));
+    svr_.Post("/domains", Wrap("/domains", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      auto r = core_.CreateDomain(*body);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      const std::string& name = std::get<std::string>(r);
+      s.set_header("Location", "/domains/" + name);
+      SendJson(s, 201, {{"name", name}});
+    }));
+    svr_.Post("/domains/draft", Wrap("/domains/draft", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      if (auto e = CheckKeys(*body, {"description"})) return SendError(s, *e);
+      auto d = body->find("description");
+      if (d == body->end() || !d->is_string())
+        return SendError(s, Bad("\"description\" must be a string: the team in plain words", "/description"));
+      auto r = core_.DraftDomain(d->template get<std::string>(), Context(q, nullptr));
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<app::DraftAnswer>(r).document);
+    }));
+    svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
+      const std::string expand = q.get_param_value("expand");
+      if (!expand.empty() && expand != "true" && expand != "false")
+        return SendError(s, {ErrorCode::kInvalidInput, "the query parameter expand must be true or false", {}});
+      auto r = core_.GetDomain(q.matches[1], expand != "true");
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
+    svr_.Put(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      const std::string name = q.matches[1];
+      if (auto e = core_.ReplaceDomain(name, *body)) return SendError(s, *e);
+      SendJson(s, 200, {{"name", name}});
+    }));
+    svr_.Delete(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
+      const std::string force = q.get_param_value("force");
+      if (!force.empty() && force != "true" && force != "false")
+        return SendError(s, {ErrorCode::kInvalidInput, "the query parameter force must be true or false", {}});
+      if (auto e = core_.DeleteDomain(q.matches[1], force == "true")) return SendError(s, *e);
+      s.status = 204;
+    }));
+    svr_.Get(R"(/domains/([A-Za-z0-9_]+)/diagram)", Wrap("/domains/{name}/diagram", [this](auto& q, auto& s) {
+      auto r = core_.DomainDiagram(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      s.set_content(std::get<std::string>(r), "image/svg+xml");
+    }));
+  }
+
   void Routes() {
     SetUpServer();
     svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
@@ -382,17 +449,7 @@ class HttpFrontEnd::Impl {
     svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
     }));
-    svr_.Get("/domains", Wrap("/domains", [this](auto&, auto& s) {
-      Json list = Json::array();
-      for (const auto& d : core_.ListDomains())
-        list.push_back({{"name", d.name}, {"description", d.description}, {"automata", d.automata}});
-      SendJson(s, 200, {{"domains", list}});
-    }));
-    svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
-      auto r = core_.GetDomain(q.matches[1]);
-      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
-      SendJson(s, 200, std::get<Json>(r));
-    }));
+    DomainRoutes();
     svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) {
       auto r = core_.GetSession(q.matches[1]);
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);

@@ -1,34 +1,15 @@
 #include "translator/draft.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "planner/model/domain.h"
+#include "translator/chat_loop.h"
 #include "translator/extract.h"
 #include "translator/pipeline.h"
+#include "translator/prompt_files.h"
 #include "translator/text.h"
 
 namespace ctb {
 
 namespace {
-
-constexpr std::size_t kMaxQuotedAnswer = 12000;
-constexpr std::size_t kMaxListedProblems = 40;
-
-std::optional<std::string> ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string Fill(std::string text, const std::string& key, const std::string& value) {
-  const std::string k = "{{" + key + "}}";
-  std::size_t at = text.find(k);
-  if (at != std::string::npos) text.replace(at, k.size(), value);
-  return text;
-}
 
 struct Checked {
   std::optional<Json> model;         // the action model, when it loads
@@ -83,15 +64,6 @@ Checked CheckDraft(const ChatResponse& r) {
   return c;
 }
 
-std::string ListErrors(const std::vector<Diagnostic>& errors) {
-  std::string out;
-  for (std::size_t i = 0; i < errors.size() && i < kMaxListedProblems; ++i)
-    out += Cut(errors[i].ToString(), 400) + "\n";
-  if (errors.size() > kMaxListedProblems)
-    out += "(and " + std::to_string(errors.size() - kMaxListedProblems) + " more)\n";
-  return out;
-}
-
 }  // namespace
 
 std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient& llm,
@@ -100,33 +72,24 @@ std::variant<DraftResult, Error> Draft(const std::string& description, LlmClient
     return Error{ErrorCode::kInvalidInput, "the description must have 1 to 8000 characters",
                  {{"/description", std::nullopt, "empty or too long"}}};
   const std::string dir = o.prompts_dir.empty() ? DefaultPromptsDir() : o.prompts_dir;
-  auto system = ReadText(dir + "/draft.txt"), user = ReadText(dir + "/draft_user.txt"),
-       repair = ReadText(dir + "/draft_repair.txt");
+  auto system = ReadPromptFile(dir + "/draft.txt"), user = ReadPromptFile(dir + "/draft_user.txt"),
+       repair = ReadPromptFile(dir + "/draft_repair.txt");
   if (!system || !user || !repair)
     return Error{ErrorCode::kInternal, "draft prompt files missing in '" + dir + "'", {}};
   DraftResult result;
-  std::vector<ChatMessage> msgs = {{"system", *system},
-                                   {"user", Fill(*user, "description", ValidUtf8(description))}};
-  auto ask = [&]() -> std::variant<ChatResponse, Error> {
-    ChatRequest req;
-    req.messages = msgs;
-    req.json_mode = o.json_mode;
-    ++result.llm_calls;
-    auto r = llm.Complete(req);
-    if (auto* e = std::get_if<Error>(&r)) return *e;
-    msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
-    return r;
-  };
-  auto answer = ask();
+  ChatLoop chat(llm, o.json_mode,
+                {{"system", *system},
+                 {"user", FillPrompt(*user, {{"description", ValidUtf8(description)}})}});
+  auto answer = chat.Ask();
   if (auto* e = std::get_if<Error>(&answer)) return *e;
   Checked c = CheckDraft(std::get<ChatResponse>(answer));
-  while (!c.errors.empty() && result.repairs < o.max_repairs) {
-    ++result.repairs;
-    msgs.push_back({"user", Fill(*repair, "errors", ListErrors(c.errors))});
-    answer = ask();
+  while (!c.errors.empty() && chat.repairs() < o.max_repairs) {
+    answer = chat.Repair(FillPrompt(*repair, {{"errors", ListProblems(c.errors)}}));
     if (auto* e = std::get_if<Error>(&answer)) return *e;
     c = CheckDraft(std::get<ChatResponse>(answer));
   }
+  result.llm_calls = chat.calls();
+  result.repairs = chat.repairs();
   if (!c.errors.empty())
     return Error{ErrorCode::kUnprocessable,
                  "the LLM's action model is still invalid after " + std::to_string(result.repairs) +

@@ -9,6 +9,7 @@
 #include "planner/model/state_plan.h"
 #include "translator/guards.h"
 #include "translator/normalize_answer.h"
+#include "translator/prompt_files.h"
 #include "translator/schema.h"
 #include "translator/text.h"
 
@@ -33,28 +34,6 @@ std::string DefaultPromptsDir() {
 
 namespace {
 
-std::optional<std::string> ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string Fill(std::string text, const std::vector<std::pair<std::string, std::string>>& vars) {
-  for (const auto& [name, value] : vars) {
-    const std::string key = "{{" + name + "}}";
-    std::string out;
-    std::size_t pos = 0, at;
-    while ((at = text.find(key, pos)) != std::string::npos) {
-      out += text.substr(pos, at - pos) + value;
-      pos = at + key.size();
-    }
-    text = out + text.substr(pos);
-  }
-  return text;
-}
-
 std::string Seconds(double s) {
   if (s == static_cast<double>(static_cast<long>(s))) return std::to_string(static_cast<long>(s));
   return Json(s).dump();
@@ -71,7 +50,7 @@ std::string ExamplePair(const Json& pair, Prompting prompting) {
 // The pairs of prompts/examples/<name>.json that are usable.
 std::vector<Json> ExamplePairs(const std::string& path) {
   std::vector<Json> out;
-  auto text = ReadText(path);
+  auto text = ReadPromptFile(path);
   if (!text) return out;
   Diagnostics ed;
   auto j = ParseJsonStrict(*text, ed);
@@ -240,7 +219,7 @@ std::string ListProblems(const Check& c) {
 std::variant<TranslateResult, Error> Translate(const Domain& d, const std::string& command,
                                                LlmClient& llm, const TranslateOptions& o) {
   const std::string dir = o.prompts_dir.empty() ? DefaultPromptsDir() : o.prompts_dir;
-  auto load = [&](const std::string& name) { return ReadText(dir + "/" + name); };
+  auto load = [&](const std::string& name) { return ReadPromptFile(dir + "/" + name); };
   auto system = load("system.txt"), extract = load("cot_extract.txt"), map = load("cot_map.txt"),
        direct = load("direct.txt"), repair = load("repair.txt"), followup = load("followup.txt");
   if (!system || !extract || !map || !direct || !repair || !followup)
@@ -252,7 +231,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   TranslateResult result;
   std::vector<ChatMessage> msgs = o.history;
   if (msgs.empty())
-    msgs.push_back({"system", Fill(*system, {{"domain", DescribeDomain(d)}, {"examples", examples}})});
+    msgs.push_back({"system", FillPrompt(*system, {{"domain", DescribeDomain(d)}, {"examples", examples}})});
   const Json json_format = ResponseFormatMember(o.response_format, d);
   auto ask = [&](bool want_json) -> std::variant<ChatResponse, Error> {
     ChatRequest req;
@@ -268,11 +247,11 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
 
   std::variant<ChatResponse, Error> answer;
   if (o.previous_state_plan) {
-    msgs.push_back({"user", Fill(*followup, {{"state_plan", o.previous_state_plan->dump(2)},
+    msgs.push_back({"user", FillPrompt(*followup, {{"state_plan", o.previous_state_plan->dump(2)},
                                              {"command", command}})});
     answer = ask(true);
   } else if (o.prompting == Prompting::kCot) {
-    msgs.push_back({"user", Fill(*extract, {{"command", command}})});
+    msgs.push_back({"user", FillPrompt(*extract, {{"command", command}})});
     auto reasoning = ask(false);
     if (auto* e = std::get_if<Error>(&reasoning)) return *e;
     const ChatResponse& rr = std::get<ChatResponse>(reasoning);
@@ -282,7 +261,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
     msgs.push_back({"user", *map});
     answer = ask(true);
   } else {
-    msgs.push_back({"user", Fill(*direct, {{"command", command}})});
+    msgs.push_back({"user", FillPrompt(*direct, {{"command", command}})});
     answer = ask(true);
   }
   if (auto* e = std::get_if<Error>(&answer)) return *e;
@@ -290,7 +269,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   std::optional<Json> first = check.json;  // the first answer read as JSON
   while ((!check.errors.empty() || !check.warnings.empty()) && result.repairs < o.max_repairs) {
     ++result.repairs;
-    msgs.push_back({"user", Fill(*repair, {{"errors", ListProblems(check)}})});
+    msgs.push_back({"user", FillPrompt(*repair, {{"errors", ListProblems(check)}})});
     answer = ask(true);
     if (auto* e = std::get_if<Error>(&answer)) {
       if (!check.plan) return *e;

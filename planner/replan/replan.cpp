@@ -138,6 +138,12 @@ void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, con
 
 }  // namespace
 
+std::optional<Error> CheckReplanRequest(const Domain& d, const StatePlan& sp,
+                                        const ReplanRequest& req) {
+  replan::Situation s;
+  return replan::BuildSituation(d, sp, req, Keep::kNone, s);
+}
+
 std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const ReplanRequest& req,
                                  const ReplanOptions& o) {
   const auto t0 = Clock::now();

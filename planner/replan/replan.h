@@ -59,4 +59,9 @@ std::optional<Error> ReadReplanRequest(const Json& body, ReplanRequest& out, Kee
 std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const ReplanRequest& req,
                                  const ReplanOptions& o);
 
+// Checks the request against the domain and state plan as Replan does, without solving: every
+// error at its pointer, or nullopt.
+std::optional<Error> CheckReplanRequest(const Domain& d, const StatePlan& sp,
+                                        const ReplanRequest& req);
+
 }  // namespace ctb

@@ -14,6 +14,7 @@
 #include "planner/encode/extract.h"
 #include "planner/solve/backend.h"
 #include "planner/solve/bounds.h"
+#include "planner/solve/engines.h"
 #include "planner/verify/verify.h"
 
 namespace ctb::solve {
@@ -138,21 +139,22 @@ class Solver {
     return bounds_.cost * cost_factor + bounds_.makespan_ticks * makespan_factor;
   }
 
-  // One member of the portfolio: a search strategy for Gecode, or the z3 engine.
+  // One member of the portfolio: an engine (engines.h) and its backend.
   struct Member {
-    std::string strategy;  // "z3" for the z3 engine
+    const Engine* engine;
     SolverBackend* backend;
   };
 
-  // search = "z3": z3 alone; a strategy: Gecode with it; "portfolio": the first `portfolio` of
-  // g_first, tc_first, z3.
+  // A search that names an engine: it alone; "portfolio" (and z3 with a history, which z3
+  // cannot take): the first `portfolio` members of the table, z3 left out with a history.
   std::vector<Member> Members() const {
-    SolverBackend* gecode = &Backend();
-    if (o_.search == "z3" && !o_.history) return {{"z3", &Z3EngineBackend()}};
-    if (o_.search != "portfolio" && o_.search != "z3") return {{o_.search, gecode}};
-    std::vector<Member> all = {
-        {"g_first", gecode}, {"tc_first", gecode}, {"z3", &Z3EngineBackend()}};
-    all.resize(std::clamp(o_.portfolio, 1, o_.history ? 2 : 3));  // z3 has no history
+    SolverBackend& gecode = Backend();
+    const Engine* alone = FindEngine(o_.search);
+    if (alone && !(alone->z3 && o_.history)) return {{alone, &BackendOf(*alone, gecode)}};
+    std::vector<Member> all;
+    for (const auto& e : Engines())
+      if (e.in_portfolio && !(e.z3 && o_.history)) all.push_back({&e, &BackendOf(e, gecode)});
+    all.resize(std::min<std::size_t>(all.size(), std::max(1, o_.portfolio)));
     return all;
   }
 
@@ -170,11 +172,11 @@ class Solver {
     std::atomic<bool> stop{false};
     long remaining = o_.time_limit_ms - MsSince(t0_);
     for (std::size_t i = 0; i < members.size(); ++i) {
-      const bool z3 = members[i].strategy == "z3";
+      const bool z3 = members[i].engine->z3;
       EncodeOptions eo;
       eo.horizon = h;
       eo.objective = objective_;
-      eo.search = z3 ? "g_first" : members[i].strategy;
+      eo.search = ModelStrategy(*members[i].engine);
       eo.redundant = o_.redundant;
       eo.better_than = BetterThan(h, better);
       eo.at_least = AtLeast(h);

@@ -1,12 +1,14 @@
 #include "planner/solve/solve.h"
 
 #include <cmath>
+#include <fstream>
 
 #include "planner/analyze/analyze.h"
 #include "planner/encode/encoder.h"
 #include "planner/solve/backend.h"
 #include "planner/solve/bounds.h"
 #include "planner/solve/decompose.h"
+#include "planner/solve/engines.h"
 #include "planner/solve/horizon_solver.h"
 #include "planner/solve/incumbent.h"
 #include "planner/solve/parts.h"
@@ -20,6 +22,20 @@ using solve::SolveOneModel;
 using solve::SolveParts;
 
 namespace {
+
+// --model-out when no exact engine ran (the first plan met the lower bound, or the parts were
+// solved apart): the whole problem's model at the plan's horizon, so the file always exists.
+void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, Objective objective,
+                   int horizon) {
+  if (o.model_out.empty()) return;
+  EncodeOptions eo;
+  eo.horizon = std::max(1, horizon);
+  eo.objective = objective;
+  eo.redundant = o.redundant;
+  Encoding enc = Encode(d, sp, Analyze(d, sp), eo);
+  std::ofstream(o.model_out) << enc.model;
+  std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
+}
 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
@@ -89,13 +105,8 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   if (o.time_limit_ms < 1 || o.time_limit_ms > 3600 * 1000)
     d.Error("/options/time_limit_ms", "time_limit_ms must be between 1 and 3,600,000");
   if (o.threads < 1 || o.threads > 64) d.Error("/options/threads", "threads must be between 1 and 64");
-  static const char* const kSearches[] = {"portfolio", "g_first", "tc_first", "first_fail",
-                                          "transitions_first", "default", "z3"};
-  bool known = false;
-  for (const char* s : kSearches) known = known || o.search == s;
-  if (!known)
-    d.Error("/options/search", "search must be portfolio, g_first, tc_first, first_fail, "
-                               "transitions_first, default or z3");
+  if (o.search != "portfolio" && !solve::FindEngine(o.search))
+    d.Error("/options/search", "search must be one of " + solve::SearchNames());
   if (o.first_plan_ms < -1 || o.first_plan_ms > 3600 * 1000)
     d.Error("/options/first_plan_ms", "first_plan_ms must be -1 (automatic) or between 0 and "
                                       "3,600,000");
@@ -154,8 +165,9 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   const Objective objective = o.objective.value_or(sp.objective);
   const int max_h = o.horizon ? *o.horizon : o.max_horizon;
   if (auto e = CheckRepresentable(d, sp, objective, max_h)) return *e;
-  const std::string solver = o.search == "z3" ? Z3EngineBackend().Name()
-                                              : (o.backend ? *o.backend : DefaultBackend()).Name();
+  const solve::Engine* alone = solve::FindEngine(o.search);
+  SolverBackend& gecode = o.backend ? *o.backend : DefaultBackend();
+  const std::string solver = alone ? solve::BackendOf(*alone, gecode).Name() : gecode.Name();
   Json stats = Json::object();
   if (o.static_analysis && !o.history) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates
@@ -193,12 +205,16 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     c.first_solution_ms = found_ms;
     c.engine = c.found_by = "heuristic";
     c.proved_by = "lower bound";
+    WriteModelOut(d, sp, o, objective, c.horizon);
     return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
     if (c && c->error) return *c->error;
-    if (c) return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
+    if (c) {
+      WriteModelOut(d, sp, o, objective, c->best ? c->best->traj.goal_event : c->horizon);
+      return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
+    }
   }
   SolveOptions mono = o;
   const long offset = MsSince(t0);

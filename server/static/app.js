@@ -10,6 +10,7 @@ import { renderAnswer, renderRemembered } from "./answer.js";
 import { executable } from "./execute.js";
 import { clock, seconds } from "./timeline.js";
 import * as store from "./store.js";
+import { initTeam, domainChanged } from "./domains.js";
 
 const $ = (id) => document.getElementById(id);
 const LIMIT = 8000;  // bytes of UTF-8, as the server counts (translator/pipeline.cpp)
@@ -41,7 +42,8 @@ function el(tag, attrs = {}, text) {
 
 async function domainInfo(name) {
   if (!(name in state.domainCache)) {
-    state.domainCache[name] = fetch(`/domains/${encodeURIComponent(name)}`)
+    // Expanded: a stored domain written with templates comes as its plain automata.
+    state.domainCache[name] = fetch(`/domains/${encodeURIComponent(name)}?expand=true`)
       .then((r) => (r.ok ? r.json() : null)).catch(() => null);
   }
   return state.domainCache[name];
@@ -321,6 +323,28 @@ async function restore() {
   setSessionLabel();
 }
 
+function domainOption(d) {
+  const o = el("option", { value: d.name }, d.source === "stored" ? `${d.name} (yours)` : d.name);
+  if (d.description) o.title = d.description;
+  return o;
+}
+
+// The domain list again (a team was saved): the new one selected, cached documents dropped.
+async function reloadDomains(select) {
+  const domains = await fetch("/domains").then((r) => r.json()).catch(() => null);
+  if (!domains) return;
+  state.domainCache = {};
+  const before = $("domain").value;
+  $("domain").replaceChildren();
+  for (const d of domains.domains) $("domain").appendChild(domainOption(d));
+  const want = select || before;
+  if ([...$("domain").options].some((o) => o.value === want)) $("domain").value = want;
+  if ($("domain").value !== before) {
+    if (state.session || state.dialogue) endDialogue(`domain changed to ${$("domain").value}`);
+    showExamples();
+  }
+}
+
 async function init() {
   const [domains, examples, info] = await Promise.all([
     fetch("/domains").then((r) => r.json()),
@@ -328,11 +352,7 @@ async function init() {
     fetch("/info").then((r) => (r.ok ? r.json() : null)).catch(() => null),
   ]);
   state.examples = examples.domains || {};
-  for (const d of domains.domains) {
-    const o = el("option", { value: d.name }, d.name);
-    if (d.description) o.title = d.description;
-    $("domain").appendChild(o);
-  }
+  for (const d of domains.domains) $("domain").appendChild(domainOption(d));
   const preferred = examples.default_domain;
   if ([...$("domain").options].some((o) => o.value === preferred)) $("domain").value = preferred;
   $("examples-note").textContent = info?.llm?.mode === "recordings" ? "(answered offline from recordings)" : "";
@@ -378,7 +398,9 @@ async function init() {
     // A session keeps its domain: say so, rather than resetting silently.
     if (state.session || state.dialogue) endDialogue(`domain changed to ${$("domain").value}`);
     showExamples();
+    domainChanged($("domain").value);
   });
+  initTeam({ currentDomain: () => $("domain").value, onSaved: reloadDomains });
   updateCounter();
   await restore();
   document.body.dataset.ready = "1";

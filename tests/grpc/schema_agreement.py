@@ -20,6 +20,7 @@ ELSEWHERE = {
     ("SolveRequest", "action_model"): "the oneof model",
     ("Trajectory", "session"): "PlanResult.session",
     ("Trajectory", "diff"): "PlanResult.diff",
+    ("Trajectory", "report"): "PlanResult.report",
 }
 
 

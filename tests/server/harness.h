@@ -12,6 +12,7 @@
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -290,6 +291,16 @@ inline bool WaitForPort(int port, long ms) {
     std::this_thread::sleep_for(std::chrono::milliseconds(25));
   }
   return false;
+}
+
+// A fresh directory under /tmp for one test's data (a data dir, redis' dir), open to everyone
+// (the server may drop privileges).
+inline std::string TempDir(const std::string& tag) {
+  std::string d = "/tmp/ctb-" + tag + "-" + std::to_string(getpid()) + "-" +
+                  std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+  std::filesystem::create_directories(d);
+  chmod(d.c_str(), 0777);
+  return d;
 }
 
 }  // namespace ctb::testing

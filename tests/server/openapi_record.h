@@ -80,7 +80,7 @@ class OpenApiCheck : public ::testing::Environment {
   }
 };
 
-// An httplib client whose Get/Post/Delete (the forms the tests use) record their answers.
+// An httplib client whose Get/Post/Put/Delete (the forms the tests use) record their answers.
 // The other overloads (a chunked content provider, ...) are httplib's own and record nothing.
 class RecordingClient : public httplib::Client {
  public:
@@ -88,6 +88,7 @@ class RecordingClient : public httplib::Client {
   using httplib::Client::Delete;
   using httplib::Client::Get;
   using httplib::Client::Post;
+  using httplib::Client::Put;
   httplib::Result Get(const std::string& path) { return Kept("GET", path, httplib::Client::Get(path)); }
   httplib::Result Get(const std::string& path, const httplib::Headers& h) {
     return Kept("GET", path, httplib::Client::Get(path, h));
@@ -98,6 +99,9 @@ class RecordingClient : public httplib::Client {
   httplib::Result Post(const std::string& path, const httplib::Headers& h, const std::string& body,
                        const std::string& type) {
     return Kept("POST", path, httplib::Client::Post(path, h, body, type));
+  }
+  httplib::Result Put(const std::string& path, const std::string& body, const std::string& type) {
+    return Kept("PUT", path, httplib::Client::Put(path, body, type));
   }
   httplib::Result Delete(const std::string& path) { return Kept("DELETE", path, httplib::Client::Delete(path)); }
 

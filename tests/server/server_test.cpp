@@ -144,6 +144,55 @@ TEST(Service, ReplanFromWhatHappened) {
   EXPECT_EQ(ErrorOf(r).value("path", ""), "/executed/1/to") << r->body;
 }
 
+// Contract section 11: what happened, in words, read by the LLM into `blocked` (a first reading
+// that names no automaton of the domain is repaired), then replanned like the explicit request.
+TEST(Service, ReplanFromAReportInWords) {
+  MockLlmServer m;
+  m.Then(MockReply::Chat(
+      R"({"blocked": [{"automaton": "robot7", "from": "atDoor1", "to": "door1Opening"}], "restatement": "x"})"));
+  m.Then(MockReply::Chat("```json\n{\"blocked\": [{\"automaton\": \"robot1\", \"from\": \"atDoor1\", "
+                         "\"to\": \"door1Opening\"}], \"restatement\": \"robot 1 cannot open door 1\"}\n```"));
+  Server s({{"CTB_LLM_BASE_URL", m.BaseUrl()}, {"CTB_LLM_MODEL", "mock"}});
+  auto c = s.Client();
+  auto plan = c.Post("/solve", SolveBody("search_rescue/test2.json", {{"objective", "makespan"}}).dump(),
+                     "application/json");
+  ASSERT_EQ(plan->status, 200) << plan->body;
+  Json b = SolveBody("search_rescue/test2.json", {{"objective", "makespan"}});
+  b["trajectory"] = Json::parse(plan->body);
+  b["now"] = 1;
+  b["executed"] = Json::parse(R"([
+      {"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor1"},
+      {"time": 1, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}])");
+  b["command"] = "robot 1 cannot open door 1";
+  auto r = c.Post("/replan", b.dump(), "application/json");
+  ASSERT_EQ(r->status, 200) << r->body;
+  Json t = Json::parse(r->body);
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["goal_reached_at"], 12) << "as with the blocked transition given explicitly";
+  EXPECT_EQ(t["report"]["blocked"], Json::parse(R"([{"automaton": "robot1", "from": "atDoor1", "to": "door1Opening"}])"));
+  EXPECT_EQ(t["report"]["restatement"], "robot 1 cannot open door 1");
+  for (const auto& tr : t["transitions"])
+    EXPECT_FALSE(tr["automaton"] == "robot1" && tr["from"] == "atDoor1" && tr["to"] == "door1Opening") << tr;
+  auto reqs = m.Requests();
+  ASSERT_EQ(reqs.size(), 2u);
+  const std::string first = reqs[0].body["messages"].dump();
+  EXPECT_NE(first.find("robot 1 cannot open door 1"), std::string::npos);
+  EXPECT_NE(first.find("t=1 s"), std::string::npos) << "the prompt shows the present time";
+  EXPECT_NE(first.find("door1Opening"), std::string::npos) << "and the domain";
+  const std::string repair = reqs[1].body["messages"].back()["content"];
+  EXPECT_NE(repair.find("/blocked/0"), std::string::npos) << repair;
+  // The client's own part is checked before any LLM call.
+  b["executed"][1]["to"] = "insideRoom1";
+  auto bad = c.Post("/replan", b.dump(), "application/json");
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_EQ(ErrorOf(bad).value("path", ""), "/executed/1/to");
+  b.erase("trajectory");
+  auto no_plan = c.Post("/replan", b.dump(), "application/json");
+  EXPECT_EQ(no_plan->status, 400);
+  EXPECT_EQ(ErrorOf(no_plan).value("path", ""), "/trajectory");
+  EXPECT_EQ(m.Requests().size(), 2u);
+}
+
 TEST(Service, InfeasibleIsA200) {
   Server s;
   Json b = {{"domain", "presentation"}, {"state_plan", Json::parse(ReadFile(ctb::testing::SourceDir() + "/tests/data/deadline_infeasible.json"))}};

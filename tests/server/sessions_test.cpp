@@ -29,14 +29,6 @@ Json Example(const std::string& file) {
   return Json::parse(std::ifstream(testing::ConfigDir() + "/examples/" + file));
 }
 
-std::string TempDir(const std::string& tag) {
-  std::string d = "/tmp/ctb-sessions-" + tag + "-" + std::to_string(getpid()) + "-" +
-                  std::to_string(Clock::now().time_since_epoch().count());
-  std::filesystem::create_directories(d);
-  chmod(d.c_str(), 0777);
-  return d;
-}
-
 // One request through httplib, recorded for the OpenAPI check.
 httplib::Result Call(httplib::Client& c, const std::string& method, const std::string& path, const Json& body = nullptr) {
   httplib::Result r = method == "GET"      ? c.Get(path.c_str())
@@ -68,7 +60,7 @@ TEST(Sessions, SqliteKeepsEveryTurnAcrossARestart) {
   second["constraints"]["episodes"]["ProjectorOnDuration"]["upper_bound"] = 300;
   m.Then(MockReply::Chat(first.dump()));
   m.Then(MockReply::Chat(second.dump()));
-  const std::string data = TempDir("sqlite");
+  const std::string data = testing::TempDir("sessions-sqlite");
   std::string id;
   {
     ServerProcess s(Json::object(), {"--data-dir", data}, LlmEnv(m));
@@ -118,7 +110,7 @@ TEST(Sessions, TwoFollowUpsAtOnceLoseNoTurnOneGets409) {
   slow.delay_ms = 2500;
   m.Then(slow);                         // follow-up A: answered late
   m.Then(MockReply::Chat(plan.dump())); // follow-up B: answered at once, stored first
-  const std::string data = TempDir("conflict");
+  const std::string data = testing::TempDir("sessions-conflict");
   ServerProcess s(Json::object(), {"--data-dir", data}, LlmEnv(m));
   auto c = s.Client();
   auto p1 = Call(c, "POST", "/plan", PlanBody("start"));
@@ -147,7 +139,7 @@ TEST(Sessions, TheCapAndTheOptionsAreCheckedBeforeAnyLlmCall) {
   Json plan = Example("presentation/test1_cot.json");
   m.Then(MockReply::Chat(plan.dump()));
   m.Then(MockReply::Chat(plan.dump()));
-  const std::string data = TempDir("cap");
+  const std::string data = testing::TempDir("sessions-cap");
   ServerProcess s({{"max_sessions", 1}}, {"--data-dir", data}, LlmEnv(m));
   auto c = s.Client();
   ASSERT_EQ(Call(c, "POST", "/plan", PlanBody("one"))->status, 200);
@@ -188,7 +180,7 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
   if (!Executable("/usr/bin/redis-server") || !Executable("/usr/sbin/nginx"))
     GTEST_SKIP() << "redis-server or nginx missing: bash scripts/install-deps.sh --test";
   const int before = testing::SolverProcesses();
-  const std::string dir = TempDir("replicas");
+  const std::string dir = testing::TempDir("sessions-replicas");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
                        "--save", "", "--appendonly", "no", "--dir", dir},
@@ -300,7 +292,7 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
 
 TEST(Sessions, RedisStoreHasTheSameCapAndIdleExpiry) {
   if (!Executable("/usr/bin/redis-server")) GTEST_SKIP() << "redis-server missing: bash scripts/install-deps.sh --test";
-  const std::string dir = TempDir("redis-cap");
+  const std::string dir = testing::TempDir("sessions-redis-cap");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
                        "--save", "", "--appendonly", "no", "--dir", dir},
@@ -353,7 +345,7 @@ int RunToExit(const std::vector<std::string>& args, std::vector<std::pair<std::s
 }
 
 TEST(Defects, ReviewFindingsOfIssue13) {
-  const std::string dir = TempDir("defects");
+  const std::string dir = testing::TempDir("sessions-defects");
   // A second domain file with an existing name stops the start, instead of being dropped.
   std::filesystem::create_directories(dir + "/config/domains");
   std::filesystem::copy_file(testing::ConfigDir() + "/domains/presentation.json", dir + "/config/domains/a.json");

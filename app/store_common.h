@@ -1,0 +1,123 @@
+// What the SQLite and Redis stores of sessions and domains share: the clock, the document's
+// text, an SQLite statement and a Redis connection. Internal to app/.
+#pragma once
+
+#include <hiredis/hiredis.h>
+#include <sqlite3.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "planner/model/json_io.h"
+
+namespace ctb::app::store {
+
+inline long NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// A stored document's text (invalid UTF-8 replaced, never throws).
+inline std::string Dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+// One prepared SQLite statement, finalized on destruction.
+class Stmt {
+ public:
+  Stmt(sqlite3* db, const char* sql) { sqlite3_prepare_v2(db, sql, -1, &s_, nullptr); }
+  ~Stmt() { sqlite3_finalize(s_); }
+  Stmt(const Stmt&) = delete;
+  Stmt& operator=(const Stmt&) = delete;
+  bool ok() const { return s_ != nullptr; }
+  Stmt& Bind(int i, const std::string& v) {
+    sqlite3_bind_text(s_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  Stmt& Bind(int i, long v) {
+    sqlite3_bind_int64(s_, i, v);
+    return *this;
+  }
+  int Step() { return sqlite3_step(s_); }
+  long Int(int i) { return static_cast<long>(sqlite3_column_int64(s_, i)); }
+  std::string Text(int i) {
+    const auto* t = sqlite3_column_text(s_, i);
+    return t ? std::string(reinterpret_cast<const char*>(t), sqlite3_column_bytes(s_, i))
+             : std::string();
+  }
+
+ private:
+  sqlite3_stmt* s_ = nullptr;
+};
+
+struct ReplyFree {
+  void operator()(redisReply* r) const {
+    if (r) freeReplyObject(r);
+  }
+};
+using Reply = std::unique_ptr<redisReply, ReplyFree>;
+
+// One Redis connection (not thread-safe: callers hold their own mutex); a broken connection is
+// reopened once per call.
+class RedisConn {
+ public:
+  RedisConn(std::string host, int port, int db) : host_(std::move(host)), port_(port), db_(db) {}
+  ~RedisConn() {
+    if (c_) redisFree(c_);
+  }
+  RedisConn(const RedisConn&) = delete;
+  RedisConn& operator=(const RedisConn&) = delete;
+
+  bool Connect(std::string& error) {
+    if (c_) redisFree(c_);
+    timeval tv{2, 0};
+    c_ = redisConnectWithTimeout(host_.c_str(), port_, tv);
+    if (!c_ || c_->err) {
+      error = "cannot connect to redis at " + host_ + ":" + std::to_string(port_) + ": " +
+              (c_ ? c_->errstr : "out of memory");
+      if (c_) redisFree(c_);
+      c_ = nullptr;
+      return false;
+    }
+    redisSetTimeout(c_, tv);
+    Reply r(Command({"SELECT", std::to_string(db_)}));
+    if (!r || r->type == REDIS_REPLY_ERROR) {
+      error = "cannot select redis database " + std::to_string(db_);
+      return false;
+    }
+    return true;
+  }
+
+  // One command; on a broken connection, reconnect once and retry. Null when it failed.
+  Reply Call(const std::vector<std::string>& args) {
+    Reply r(Command(args));
+    if (r) return r;
+    std::string error;
+    if (!Connect(error)) return nullptr;
+    return Reply(Command(args));
+  }
+
+  std::string Describe() const {
+    return "redis://" + host_ + ":" + std::to_string(port_) + "/" + std::to_string(db_);
+  }
+
+ private:
+  redisReply* Command(const std::vector<std::string>& args) {
+    if (!c_) return nullptr;
+    std::vector<const char*> argv;
+    std::vector<size_t> lens;
+    for (const auto& a : args) {
+      argv.push_back(a.data());
+      lens.push_back(a.size());
+    }
+    return static_cast<redisReply*>(
+        redisCommandArgv(c_, static_cast<int>(argv.size()), argv.data(), lens.data()));
+  }
+
+  redisContext* c_ = nullptr;
+  std::string host_;
+  int port_, db_;
+};
+
+}  // namespace ctb::app::store

@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""New coupled families nobody tuned for (issue 18): search and rescue teams written from the
+template config/templates/search_rescue_team.json (expanded by `ctburton domain expand`), with
+
+  assign  free assignment: every person rescued by some robot, robots of three speeds
+          (robot k's timed moves take 1, 2 or 3 times as long);
+  door    a shared resource as a state constraint: at most one robot opening door 1 or door 2
+          at a time, robot k rescues person k;
+  due     deadlines: robot k rescues person k within a bound a little above its fastest route;
+  all     the three together.
+
+    python3 bench/families.py [--sizes 2,4,8,16] [--time-limit-ms 30000] [--before OLD_BINARY]
+                              [--out bench/results]
+
+Runs `ctburton solve` on each (makespan), and with --before the same problems with another
+binary (e.g. one built before a change), and writes bench/results/families.{md,json}: status,
+objective, time to the first verified plan, end-to-end time, which engine found and proved it.
+"""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import BIN, ROOT  # noqa: E402
+
+TEMPLATE = os.path.join(ROOT, "config", "templates", "search_rescue_team.json")
+FAMILIES = ("assign", "door", "due", "all")
+
+
+def expand(binary, n, speeds, path):
+    """The team of n robots; with speeds, robot k's timed transitions scaled by 1, 2 or 3."""
+    p = subprocess.run([binary, "domain", "expand", TEMPLATE, "--set", f"N={n}"],
+                       capture_output=True, text=True, check=True)
+    dom = json.loads(p.stdout)
+    dom["name"] = f"rescue_team_{n}"
+    if speeds:
+        for a in dom["automata"]:
+            if not a["name"].startswith("robot"):
+                continue
+            factor = 1 + (int(a["name"][5:]) - 1) % 3
+            for t in a["transitions"]:
+                if "duration" in t:
+                    t["duration"] = [v * factor if v is not None else None for v in t["duration"]]
+    with open(path, "w") as f:
+        json.dump(dom, f)
+
+
+def plan(n, family):
+    init = {f"robot{k}": "outside" for k in range(1, n + 1)}
+    init.update({"door1": "closed", "door2": "closed", "door3": "open"})
+    robots = range(1, n + 1)
+    if family in ("assign", "all"):
+        goal = " /\\ ".join("(" + " \\/ ".join(f"robot{k}l[i+1]==rescuedPerson{p}" for k in robots) + ")"
+                            for p in robots)
+    else:
+        goal = " /\\ ".join(f"robot{k}l[i+1]==rescuedPerson{k}" for k in robots)
+    maintenance = "true"
+    if family in ("door", "all"):
+        pairs = [f"not (robot{a}l[i]==door{d}Opening /\\ robot{b}l[i]==door{d}Opening)"
+                 for d in (1, 2) for a in robots for b in robots if a < b]
+        maintenance = " /\\ ".join(pairs) if pairs else "true"
+    temporal = {}
+    if family in ("due", "all"):
+        for k in robots:
+            # The fastest rescue through door 1 takes 11 s (door 2: 13 s); slower robots get more.
+            factor = 1 + (k - 1) % 3 if family == "all" else 1
+            temporal[f"Robot{k}Within"] = {
+                "accepting_event1_constraint": f"robot{k}l[i]==outside /\\ robot{k}l[i+1]!=outside",
+                "accepting_event2_constraint": f"robot{k}l[i+1]==rescuedPerson{k}" if family == "due"
+                else " \\/ ".join(f"robot{k}l[i+1]==rescuedPerson{p}" for p in robots),
+                "lower_bound": 0, "upper_bound": 14 * factor + 2 * k}
+    return {"initial_state": init,
+            "end_state": {"maintenance_constraint": maintenance, "goal_constraint": goal},
+            "constraints": {"episodes": {}, "temporal": temporal, "event": {}}}
+
+
+def run(binary, domain, plan_path, limit_ms):
+    cmd = [binary, "solve", "--domain", domain, plan_path, "--objective", "makespan",
+           "--time-limit-ms", str(limit_ms)]
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=limit_ms / 1000 + 60)
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout"}
+    if p.returncode != 0:
+        return {"status": "error", "error": p.stderr.strip()[-300:]}
+    t = json.loads(p.stdout)
+    s = t["stats"]
+    return {"status": t["status"], "objective": t["objective"]["value"], "verified": t["verified"],
+            "first_s": None if s.get("first_solution_ms") in (None, -1) else round(s["first_solution_ms"] / 1000, 2),
+            "total_s": round(s["solve_ms"] / 1000, 2), "found_by": s.get("found_by"),
+            "proved_by": s.get("proved_by")}
+
+
+def cell(r, key):
+    v = r.get(key)
+    return "—" if v is None else str(v)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sizes", default="2,4,8,16")
+    ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--time-limit-ms", type=int, default=30000)
+    ap.add_argument("--before", help="another ctburton binary to run on the same problems")
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    a = ap.parse_args()
+    sizes = [int(x) for x in a.sizes.split(",")]
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for family in a.families.split(","):
+            for n in sizes:
+                dom = os.path.join(tmp, f"{family}{n}_domain.json")
+                expand(BIN, n, family in ("assign", "all"), dom)
+                path = os.path.join(tmp, f"{family}{n}.json")
+                with open(path, "w") as f:
+                    json.dump(plan(n, family), f)
+                row = {"family": family, "robots": n, "now": run(BIN, dom, path, a.time_limit_ms)}
+                if a.before:
+                    row["before"] = run(a.before, dom, path, a.time_limit_ms)
+                print(json.dumps(row), flush=True)
+                rows.append(row)
+    load = os.getloadavg()
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "families.json"), "w") as f:
+        json.dump(rows, f, indent=1)
+    cmd = "python3 bench/families.py " + " ".join(sys.argv[1:])
+    lines = ["# New coupled families (issue 18): problems nobody tuned for", "",
+             f"Made by `{cmd}` on {os.cpu_count()} cores, {platform.platform()}; time limit "
+             f"{a.time_limit_ms} ms per solve, objective makespan. Load average at the end: "
+             f"{load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}. Seconds; `first`: the first verified "
+             "plan; `total`: the answer (`stats.solve_ms`).", "",
+             "Families (bench/families.py): `assign` free assignment of robots to persons, robots of "
+             "three speeds; `door` at most one robot opening each door at a time (a state "
+             "constraint); `due` a deadline per rescue; `all` the three together.", ""]
+    head = "| family | robots | status | makespan | first | total | found by | proved by |"
+    if a.before:
+        head += " before: status | before: makespan | before: first | before: total |"
+    lines += [head, "|" + "---|" * (head.count("|") - 1)]
+    for r in rows:
+        x = r["now"]
+        line = (f"| {r['family']} | {r['robots']} | {x['status']} | {cell(x, 'objective')} | "
+                f"{cell(x, 'first_s')} | {cell(x, 'total_s')} | {cell(x, 'found_by')} | {cell(x, 'proved_by')} |")
+        if a.before:
+            b = r["before"]
+            line += f" {b['status']} | {cell(b, 'objective')} | {cell(b, 'first_s')} | {cell(b, 'total_s')} |"
+        lines.append(line)
+    with open(os.path.join(a.out, "families.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    bad = [r for r in rows if r["now"]["status"] in ("error", "timeout") or
+           (r["now"]["status"] in ("optimal", "feasible") and not r["now"].get("verified"))]
+    if bad:
+        print(f"{len(bad)} problem(s) failed", file=sys.stderr)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

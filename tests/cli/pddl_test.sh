@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Black-box test of `ctburton domain import-pddl` (docs/domains.md, "Importing PDDL"): the PDDL
+# search_rescue imported with its problem, checked by `domain check`, solved by `solve` to the
+# shipped domain's optimum; a domain without a problem; an unsupported action refused with its
+# name and line; bad usage.
+set -u
+BIN=$1
+SRC=$2
+cd "$SRC"
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail=0
+ok() { echo "ok   $1"; }
+bad() { echo "FAIL $1"; fail=$((fail + 1)); }
+P=tests/interchange/pddl
+
+out=$("$BIN" domain import-pddl $P/search_rescue_domain.pddl $P/search_rescue_problem.pddl \
+      -o "$T/sr.json" --state-plan-out "$T/plan.json" 2>"$T/err"); rc=$?
+[ $rc = 0 ] && [[ "$out" == "imported: search_rescue (5 automata, 39 locations, 40 transitions from 22 ground actions)" ]] \
+  && [ ! -s "$T/err" ] && ok "import with a problem" || bad "import (rc=$rc): $out $(cat "$T/err")"
+
+out=$("$BIN" domain check "$T/sr.json"); rc=$?
+[ $rc = 0 ] && [[ "$out" == "valid: search_rescue (5 automata, 39 locations, 40 transitions)" ]] \
+  && ok "imported domain checks" || bad "domain check (rc=$rc): $out"
+
+"$BIN" solve --domain "$T/sr.json" "$T/plan.json" > "$T/t.json"; rc=$?
+if [ $rc = 0 ] && python3 - "$T/t.json" <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))
+assert t["status"] == "optimal", t["status"]
+assert t["verified"] is True
+assert t["objective"] == {"kind": "makespan", "value": 11}, t["objective"]
+ends = {tr["automaton"]: tr["to"] for tr in t["transitions"] if tr["automaton"].startswith("robot")}
+assert sorted([ends["robot1"], ends["robot2"]]) == ["person1", "person2"], ends
+PY
+then ok "solve: optimal makespan 11"; else bad "solve (rc=$rc)"; fi
+
+"$BIN" domain import-pddl $P/presentation_domain.pddl > "$T/pres.json" 2>"$T/err"; rc=$?
+if [ $rc = 0 ] && python3 - "$T/pres.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert [a["name"] for a in d["automata"]] == ["comp", "conn", "proj"], d["automata"]
+PY
+then ok "import from constants to stdout"; else bad "constants import (rc=$rc) $(cat "$T/err")"; fi
+
+# An action that moves the computer and the cable at once: refused, named, located.
+python3 - $P/presentation_domain.pddl "$T/two.pddl" <<'PY'
+import sys
+s = open(sys.argv[1]).read().rstrip()
+assert s.endswith(")")
+s = s[:-1] + """
+  (:action boot-and-connect
+    :parameters (?c - computer ?k - cable)
+    :precondition (and (comp-off ?c) (disconnected ?k))
+    :effect (and (not (comp-off ?c)) (comp-on ?c) (not (disconnected ?k)) (connected ?k))))
+"""
+open(sys.argv[2], "w").write(s)
+PY
+out=$("$BIN" domain import-pddl "$T/two.pddl" 2>&1 >/dev/null); rc=$?
+line=$(grep -n ':action boot-and-connect' "$T/two.pddl" | cut -d: -f1)
+[ $rc = 1 ] && [[ "$out" == *"two.pddl:$((line + 3)):"*"action 'boot-and-connect': changes two state variables at once"* ]] \
+  && ok "two state variables: named and located" || bad "two variables (rc=$rc): $out"
+
+"$BIN" domain import-pddl $P/presentation_domain.pddl --state-plan-out "$T/x.json" >/dev/null 2>&1; rc=$?
+[ $rc = 2 ] && ok "--state-plan-out without a problem is a usage error" || bad "usage (rc=$rc)"
+
+"$BIN" domain import-pddl "$T/missing.pddl" >/dev/null 2>&1; rc=$?
+[ $rc = 1 ] && ok "missing file" || bad "missing file (rc=$rc)"
+
+echo "$fail failure(s)"
+[ $fail = 0 ]
