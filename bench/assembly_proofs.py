@@ -24,6 +24,7 @@ import argparse
 import json
 import os
 import platform
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -200,7 +201,7 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     jpath = os.path.join(a.out, "assembly_proofs.json")
     data = json.load(open(jpath)) if os.path.exists(jpath) else {"runs": {}}
-    data["runs"][a.label] = {"command": "python3 bench/assembly_proofs.py " + " ".join(sys.argv[1:]),
+    data["runs"][a.label] = {"command": "python3 bench/assembly_proofs.py " + shlex.join(sys.argv[1:]),
                              "machine": f"{os.cpu_count()} cores, {platform.platform()}",
                              "time_limit_ms": a.time_limit_ms, "note": a.note,
                              "load_before": before, "load_after": load(), "rows": rows}
