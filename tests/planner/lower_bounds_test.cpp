@@ -1,6 +1,7 @@
 // Lower bounds that hold for every plan (issue 9): earliest times (analyze/earliest.h), the
-// delete relaxation (analyze/relaxed_cost.h) and guard landmarks (solve/bounds.h). Soundness on
-// random problems is checked against every plan the brute-force enumeration finds.
+// delete relaxation (analyze/relaxed_cost.h), guard landmarks (solve/bounds.h) and the work only
+// helpers can do (analyze/workload.h, issue 18). Soundness on random problems is checked against
+// every plan the brute-force enumeration finds and against exact optima (brute_force_test.cpp).
 #include "planner/analyze/earliest.h"
 
 #include <gtest/gtest.h>
