@@ -76,9 +76,9 @@ pb::SolveRequest SolveOf(const std::string& domain, const std::string& plan_file
   return q;
 }
 
-// The assembly test prompt, fastest, up to 64 events: its proof runs to the time limit.
+// Assembly, C onto A from a tower, fastest, up to 64 events: its proof runs to the time limit.
 pb::SolveRequest LongSolve() {
-  return SolveOf("assembly", "config/examples/assembly/test.json", "makespan", 60000, 64);
+  return SolveOf("assembly", "tests/data/slow_c_on_a.json", "makespan", 60000, 64);
 }
 
 // Waits up to `ms` for the server to have no solver child; true when it has none.
