@@ -178,6 +178,7 @@ class Solver {
       eo.objective = objective_;
       eo.search = ModelStrategy(*members[i].engine);
       eo.redundant = o_.redundant;
+      eo.symmetry = o_.symmetry;
       eo.better_than = BetterThan(h, better);
       eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;

@@ -32,6 +32,7 @@ void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, 
   eo.horizon = std::max(1, horizon);
   eo.objective = objective;
   eo.redundant = o.redundant;
+  eo.symmetry = o.symmetry;
   Encoding enc = Encode(d, sp, Analyze(d, sp), eo);
   std::ofstream(o.model_out) << enc.model;
   std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
