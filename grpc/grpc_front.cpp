@@ -253,6 +253,13 @@ class PlannerService final : public pb::Planner::Service {
       Json t = ToJson(q.trajectory());
       if (t.contains("timelines") && t["timelines"].is_object())
         for (auto& [name, tl] : t["timelines"].items()) tl = tl.value("segments", Json::array());
+      // The mapping also leaves out a transition's time 0 and writes its int64 event as a string.
+      for (int i = 0; i < q.trajectory().transitions_size(); ++i) {
+        const auto& tr = q.trajectory().transitions(i);
+        t["transitions"][i]["time"] = tr.time();
+        if (tr.event() > 0) t["transitions"][i]["event"] = tr.event();
+        else t["transitions"][i].erase("event");
+      }
       request["trajectory"] = t;
     }
     call.request = request;

@@ -1,5 +1,7 @@
 #include "planner/analyze/abstraction.h"
 
+#include "planner/expr/normalize.h"
+
 namespace ctb::analysis {
 
 namespace {
@@ -80,8 +82,12 @@ Abstraction Build(const Domain& d, const StatePlan& sp,
   for (std::size_t a = 0; a < na; ++a) {
     const Automaton& au = d.automata[a];
     const int n = static_cast<int>(au.locations.size());
+    ab.event_guards.emplace_back();
     for (int l = 0; l < n; ++l)
-      if (ab.reach[a][l] && !(ab.only_initial && l != sp.initial[a])) ab.event_opts[a].push_back({l, l});
+      if (ab.reach[a][l] && !(ab.only_initial && l != sp.initial[a])) {
+        ab.event_opts[a].push_back({l, l});
+        ab.event_guards[a].push_back(nullptr);
+      }
     auto& dist = ab.dist[a];
     dist.assign(n * n, kInf);
     for (int l = 0; l < n; ++l) dist[l * n + l] = 0;
@@ -89,6 +95,7 @@ Abstraction Build(const Domain& d, const StatePlan& sp,
       if (!ab.usable[a][t]) continue;
       const Transition& tr = au.transitions[t];
       ab.event_opts[a].push_back({tr.from, tr.to});
+      ab.event_guards[a].push_back(tr.from == tr.to || IsTrue(tr.guard) ? nullptr : &tr.guard);
       dist[tr.from * n + tr.to] = std::min(dist[tr.from * n + tr.to], tr.duration.lo);
     }
     for (int k = 0; k < n; ++k)
@@ -110,9 +117,10 @@ bool MayHold(const Abstraction& ab, const std::vector<Term>& terms) {
 
 // For each automaton, the options (at one event) compatible with the terms; automata the terms
 // do not read keep every option.
-std::vector<std::vector<Opt>> Project(const Abstraction& ab, const std::vector<Term>& terms) {
+std::vector<std::vector<Opt>> Project(const Abstraction& ab, const std::vector<Term>& terms,
+                                      bool guards) {
   std::vector<std::vector<Opt>> out = ab.event_opts;
-  SatSearch s(ab.init, ab.event_opts, terms);
+  SatSearch s(ab.init, ab.event_opts, terms, guards ? &ab.event_guards : nullptr);
   for (int a : s.order()) {
     std::vector<Opt> keep;
     for (int o = 0; o < static_cast<int>(ab.event_opts[a].size()); ++o)

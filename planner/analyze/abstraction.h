@@ -34,24 +34,44 @@ struct Opt {
 
 // One condition to satisfy at an event. `change`: [i] reads the stage before the event (an
 // accepting condition that describes a change); otherwise every index reads the stage after it.
+// `before`: every index reads the stage before the event (a guard, or a maintenance constraint
+// on the stage that ends at the event).
 struct Term {
   const Expr* e = nullptr;
   bool change = false;
+  bool before = false;
 };
 
 inline Term AtEvent(const Condition& c) { return {&c.raw, c.raw_info.IsChange()}; }
 inline Term OnStage(const Condition& c) { return {&c.raw, false}; }
+inline Term OnStageBefore(const Condition& c) { return {&c.raw, false, true}; }
+
+// Per automaton and option (the shape of an option list): the guard of the transition the option
+// takes, or nullptr for a stay or an unguarded transition.
+using OptGuards = std::vector<std::vector<const Expr*>>;
 
 // Satisfiability of a conjunction of terms over per-automaton option lists, by depth-first
 // search with three-valued evaluation. Atoms over commands, accepting automata and fixed stages
 // other than 0 are unknown, so "unsatisfiable" is a proof and "satisfiable" may be a guess.
 class SatSearch {
  public:
+  // With `guards` (same shape as opts, not owned), an option that moves an automaton also needs
+  // its transition's guard on the stage before the event, and the automata the guards read are
+  // searched too.
   SatSearch(const std::vector<int>& init, const std::vector<std::vector<Opt>>& opts,
-            const std::vector<Term>& terms)
-      : init_(init), opts_(opts), terms_(terms), pick_(opts.size(), -1) {
+            const std::vector<Term>& terms, const OptGuards* guards = nullptr)
+      : init_(init), opts_(opts), terms_(terms), guards_(guards), pick_(opts.size(), -1) {
     std::set<int> read;
     for (const auto& t : terms) Collect(*t.e, read);
+    for (std::vector<int> todo(read.begin(), read.end()); guards_ && !todo.empty();) {
+      const int a = todo.back();
+      todo.pop_back();
+      std::set<int> more;
+      for (const Expr* g : (*guards_)[a])
+        if (g) Collect(*g, more);
+      for (int b : more)
+        if (read.insert(b).second) todo.push_back(b);
+    }
     order_.assign(read.begin(), read.end());
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return opts_[a].size() < opts_[b].size(); });
@@ -77,16 +97,20 @@ class SatSearch {
     for (const auto& k : e.kids) Collect(k, out);
   }
 
-  Tv Eval(const Expr& e, bool change) const {
+  // `change`: [i] reads the stage before; `before`: every index does.
+  Tv Eval(const Expr& e, bool change, bool before = false) const {
     switch (e.op) {
       case Expr::Op::kTrue: return Tv::kTrue;
       case Expr::Op::kFalse: return Tv::kFalse;
-      case Expr::Op::kNot: return Not(Eval(e.kids[0], change));
-      case Expr::Op::kAnd: return And(Eval(e.kids[0], change), Eval(e.kids[1], change));
-      case Expr::Op::kOr: return Or(Eval(e.kids[0], change), Eval(e.kids[1], change));
-      case Expr::Op::kImplies: return Or(Not(Eval(e.kids[0], change)), Eval(e.kids[1], change));
+      case Expr::Op::kNot: return Not(Eval(e.kids[0], change, before));
+      case Expr::Op::kAnd:
+        return And(Eval(e.kids[0], change, before), Eval(e.kids[1], change, before));
+      case Expr::Op::kOr:
+        return Or(Eval(e.kids[0], change, before), Eval(e.kids[1], change, before));
+      case Expr::Op::kImplies:
+        return Or(Not(Eval(e.kids[0], change, before)), Eval(e.kids[1], change, before));
       case Expr::Op::kIff: {
-        Tv a = Eval(e.kids[0], change), b = Eval(e.kids[1], change);
+        Tv a = Eval(e.kids[0], change, before), b = Eval(e.kids[1], change, before);
         if (a == Tv::kUnknown || b == Tv::kUnknown) return Tv::kUnknown;
         return a == b ? Tv::kTrue : Tv::kFalse;
       }
@@ -101,7 +125,7 @@ class SatSearch {
       int p = pick_[e.target];
       if (p < 0) return Tv::kUnknown;
       const Opt& o = opts_[e.target][p];
-      value = (change && e.index.kind == IndexKind::kI) ? o.prev : o.next;
+      value = (before || (change && e.index.kind == IndexKind::kI)) ? o.prev : o.next;
     }
     return (value == e.value_code) != e.not_equal ? Tv::kTrue : Tv::kFalse;
   }
@@ -109,8 +133,15 @@ class SatSearch {
   Tv EvalAll() const {
     Tv r = Tv::kTrue;
     for (const auto& t : terms_) {
-      r = And(r, Eval(*t.e, t.change));
-      if (r == Tv::kFalse) break;
+      r = And(r, Eval(*t.e, t.change, t.before));
+      if (r == Tv::kFalse) return r;
+    }
+    if (!guards_) return r;
+    for (std::size_t a = 0; a < pick_.size(); ++a) {
+      if (pick_[a] < 0) continue;
+      const Expr* g = (*guards_)[a][pick_[a]];
+      if (g) r = And(r, Eval(*g, false, true));
+      if (r == Tv::kFalse) return r;
     }
     return r;
   }
@@ -137,6 +168,7 @@ class SatSearch {
   const std::vector<int>& init_;
   const std::vector<std::vector<Opt>>& opts_;
   const std::vector<Term>& terms_;
+  const OptGuards* guards_;
   std::vector<int> pick_;
   std::vector<int> order_;
   long budget_ = 0;
@@ -151,6 +183,7 @@ struct Abstraction {
   std::vector<std::vector<char>> reach;      // [a][l]: on some stage up to the goal event
   std::vector<std::vector<char>> usable;     // [a][t]: can fire at some event up to the goal
   std::vector<std::vector<Opt>> event_opts;  // per automaton: stays and usable transitions
+  OptGuards event_guards;                    // per event option: its transition's guard
   std::vector<std::vector<Opt>> stage_opts;  // per automaton: reachable locations
   std::vector<std::vector<double>> dist;     // [a][from * n + to]: least time between entries
 
@@ -183,8 +216,11 @@ Abstraction Build(const Domain& d, const StatePlan& sp,
 bool MayHold(const Abstraction& ab, const std::vector<Term>& terms);
 
 // For each automaton, the options (at one event) compatible with the terms; automata the terms
-// do not read keep every option.
-std::vector<std::vector<Opt>> Project(const Abstraction& ab, const std::vector<Term>& terms);
+// do not read keep every option. With `guards`, an option that moves an automaton needs its
+// transition's guard on the stage before (Abstraction::event_guards), which ties automata
+// together (a connection made only while the computer is off).
+std::vector<std::vector<Opt>> Project(const Abstraction& ab, const std::vector<Term>& terms,
+                                      bool guards = false);
 
 // Least time from an event at which `from` holds to a later (or the same) event at which `to`
 // holds.

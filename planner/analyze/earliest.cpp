@@ -69,7 +69,7 @@ class Earliest {
     SettleStatePlan();
     EarliestTimes out;
     out.arrival = arr_;
-    out.goal = std::max(GoalTime(), ReturnTime());
+    out.goal = std::max({GoalTime(), ReturnTime(), HelperReturnTime()});
     return out;
   }
 
@@ -93,10 +93,16 @@ class Earliest {
   // A transition's least length: its lower duration, or one event.
   long Duration(const Transition& t) const { return events_ ? 1 : Ticks(t.duration.lo, tps_); }
 
+  // a == l holds once a has entered l; a != l once a has entered some other location (a
+  // starting elsewhere: at once).
   long LocationAtom(const Expr& atom) const {
-    if (atom.var_kind != VarKind::kLocation || atom.not_equal || atom.index.kind == IndexKind::kFixed)
-      return 0;
-    return arr_[atom.target][atom.value_code];
+    if (atom.var_kind != VarKind::kLocation || atom.index.kind == IndexKind::kFixed) return 0;
+    const std::vector<long>& arr = arr_[atom.target];
+    if (!atom.not_equal) return arr[atom.value_code];
+    long first = kNever;
+    for (std::size_t l = 0; l < arr.size(); ++l)
+      if (static_cast<int>(l) != atom.value_code) first = std::min(first, arr[l]);
+    return first;
   }
 
   // First entries, settled from above (Bellman-Ford rounds): a transition from l fires no earlier
@@ -133,9 +139,9 @@ class Earliest {
   // (at [i] of a change condition, no later than the event before); an episode (temporal
   // constraint) read as active or accepted has started (opened) or ended (been accepted).
   long EventAtom(const Expr& atom) const {
+    if (atom.var_kind == VarKind::kLocation) return LocationAtom(atom);
     if (atom.not_equal) return 0;
     switch (atom.var_kind) {
-      case VarKind::kLocation: return LocationAtom(atom);
       case VarKind::kEpisodeState:
         return atom.value_code == 1 ? ep_s_[atom.target] : atom.value_code == 2 ? ep_e_[atom.target] : 0;
       case VarKind::kTemporalState:
@@ -265,6 +271,31 @@ class Earliest {
             if (t.from == held && t.to != held) leave = std::min(leave, Distance(a, t.to, l));
           if (leave < kNever) best = std::max(best, Add(ep_e_[p], leave));
         }
+    return best;
+  }
+
+  // The goal pins b to l where b does not start, so b's last entry into l is by a transition t
+  // whose guard needs k in v; k was then in v (entered no earlier than its arrival there) and,
+  // when the goal pins k to f, still needs the fastest way from v to f (an arm that places the
+  // block must then get home). The least such time over the transitions into l.
+  long HelperReturnTime() const {
+    if (sp_.goal.info.IsChange()) return 0;
+    const auto pins = Pinned(sp_.goal.expr);
+    std::vector<int> pinned(d_.automata.size(), -1);
+    for (auto [a, l] : pins) pinned[a] = l;
+    long best = 0;
+    for (auto [b, l] : pins) {
+      if (l == sp_.initial[b]) continue;
+      long entry = kNever;
+      for (const Transition& t : d_.automata[b].transitions) {
+        if (t.to != l || t.from == l) continue;
+        long need = 0;
+        for (auto [k, v] : Pinned(t.guard))
+          if (k != b && pinned[k] >= 0) need = std::max(need, Add(arr_[k][v], Distance(k, v, pinned[k])));
+        entry = std::min(entry, need);
+      }
+      if (entry < kNever) best = std::max(best, entry);
+    }
     return best;
   }
 

@@ -118,25 +118,30 @@ class Network {
   std::optional<TimeConflict> Run() {
     BuildNodes();
     BuildEdges();
+    Gaps();
     std::set<std::string> all;
     for (const auto& e : edges_) all.insert(e.parts.begin(), e.parts.end());
-    std::vector<int> cycle;
-    if (!NegativeCycle(all, &cycle)) return std::nullopt;
-    // Deletion filter over the parts on the cycle: a smallest set the network still refutes.
+    if (!maint_.empty()) all.insert(maint_);
+    std::vector<Leaf> proof;
+    if (!Refuted(all, &proof)) return std::nullopt;
+    // Deletion filter over the parts the proof used: a smallest set the network still refutes.
     std::set<std::string> keep;
-    for (int k : cycle) keep.insert(edges_[k].parts.begin(), edges_[k].parts.end());
+    for (const auto& leaf : proof)
+      for (const auto& e : leaf.cycle) keep.insert(e.parts.begin(), e.parts.end());
+    if (!Refuted(keep, nullptr)) keep = all;  // the case split chose otherwise: start from all
     for (const std::string& p : std::set<std::string>(keep)) {
       if (p == maint_) continue;  // the abstraction itself needs it
       std::set<std::string> rest = keep;
       rest.erase(p);
-      if (NegativeCycle(rest, nullptr)) keep = rest;
+      if (Refuted(rest, nullptr)) keep = rest;
     }
-    NegativeCycle(keep, &cycle);
+    proof.clear();
+    Refuted(keep, &proof);
     TimeConflict out;
     for (const auto& p : keep)
       if (p != maint_) out.parts.push_back(p);
     if (keep.count(maint_)) out.parts.push_back(maint_);
-    out.text = Text(cycle);
+    out.text = Text(proof);
     Hints(keep, out.hints);
     return out;
   }
@@ -151,6 +156,15 @@ class Network {
     return Project(ab_, terms);
   }
 
+  // The options at a node, an event no later than the goal event: besides the node's terms, the
+  // guards of the transitions taken there hold on the stage before, and so does the maintenance
+  // constraint under it (that stage is before the goal event; at e[0] the abstraction's initial
+  // state satisfies it).
+  std::vector<std::vector<Opt>> NodeOptions(std::vector<Term> terms) const {
+    if (!maint_.empty()) terms.push_back(OnStageBefore(sp_.maintenance));
+    return Project(ab_, terms, true);
+  }
+
   void BuildNodes() {
     Node z;
     z.desc = "the start";
@@ -160,17 +174,10 @@ class Network {
     for (const auto& ep : sp_.episodes) {
       const std::string p = "/constraints/episodes/" + PointerToken(ep.name);
       Node s{p, "the start of episode " + ep.name, &ep.accepting, &ep.state, true, {}};
-      s.opts = OptionsOf({AtEvent(ep.accepting), OnStage(ep.state)});
+      s.opts = NodeOptions({AtEvent(ep.accepting), OnStage(ep.state)});
       Node e{p, "the end of episode " + ep.name, nullptr, nullptr, false, {}};
-      e.opts = ab_.event_opts;
       // At the end event the stage before it still satisfies the state constraint.
-      for (std::size_t a = 0; a < d_.automata.size(); ++a) {
-        auto held = Held(ep.state, static_cast<int>(a));
-        std::vector<Opt> keep;
-        for (const Opt& o : e.opts[a])
-          if (held[o.prev]) keep.push_back(o);
-        e.opts[a] = keep;
-      }
+      e.opts = NodeOptions({OnStageBefore(ep.state)});
       ep_.push_back({AddNode(s), AddNode(e)});
     }
     for (const auto& tc : sp_.temporals) {
@@ -185,11 +192,11 @@ class Network {
         const Condition& c1 = order == 1 ? tc.event1 : tc.event2;
         const Condition& c2 = order == 1 ? tc.event2 : tc.event1;
         a.cond = &c1, b.cond = &c2;
-        a.opts = OptionsOf({AtEvent(c1)}), b.opts = OptionsOf({AtEvent(c2)});
+        a.opts = NodeOptions({AtEvent(c1)}), b.opts = NodeOptions({AtEvent(c2)});
         a.desc = std::string("event ") + (order == 1 ? "1" : "2") + " of temporal constraint " + tc.name;
         b.desc = std::string("event ") + (order == 1 ? "2" : "1") + " of temporal constraint " + tc.name;
       } else {
-        auto o1 = OptionsOf({AtEvent(tc.event1)}), o2 = OptionsOf({AtEvent(tc.event2)});
+        auto o1 = NodeOptions({AtEvent(tc.event1)}), o2 = NodeOptions({AtEvent(tc.event2)});
         for (std::size_t k = 0; k < o1.size(); ++k) o1[k].insert(o1[k].end(), o2[k].begin(), o2[k].end());
         a.opts = b.opts = o1;
         a.desc = "the first event of temporal constraint " + tc.name;
@@ -384,18 +391,17 @@ class Network {
     return true;
   }
 
-  // Floyd-Warshall over the edges whose parts are all in `parts`; the edges of a negative cycle.
-  bool NegativeCycle(const std::set<std::string>& parts, std::vector<int>* cycle,
-                     int override_edge = -1, double override_w = 0) const {
+  // Floyd-Warshall over `edges`: true when they hold a negative cycle (its edges in `cycle`);
+  // else the shortest distances (dist[u * n + v] bounds x_v - x_u) in `dist`.
+  bool NegativeCycle(const std::vector<Edge>& edges, std::vector<Edge>* cycle,
+                     std::vector<double>* dist_out) const {
     const int n = static_cast<int>(nodes_.size());
     std::vector<double> dist(n * n, kInf);
     std::vector<int> via(n * n, -1);  // the last edge of the best path
     for (int k = 0; k < n; ++k) dist[k * n + k] = 0;
-    for (int k = 0; k < static_cast<int>(edges_.size()); ++k) {
-      const Edge& e = edges_[k];
-      if (!Usable(e, parts)) continue;
-      const double w = k == override_edge ? override_w : e.w;
-      if (w < dist[e.u * n + e.v]) dist[e.u * n + e.v] = w, via[e.u * n + e.v] = k;
+    for (int k = 0; k < static_cast<int>(edges.size()); ++k) {
+      const Edge& e = edges[k];
+      if (e.w < dist[e.u * n + e.v]) dist[e.u * n + e.v] = e.w, via[e.u * n + e.v] = k;
     }
     for (int k = 0; k < n; ++k)
       for (int i = 0; i < n; ++i) {
@@ -415,28 +421,125 @@ class Network {
         do {
           int k = via[i * n + j];
           if (k < 0) break;
-          cycle->push_back(k);
-          j = edges_[k].u;
+          cycle->push_back(edges[k]);
+          j = edges[k].u;
         } while (j != i && ++guard <= n);
         std::reverse(cycle->begin(), cycle->end());
       }
       return true;
     }
+    if (dist_out) *dist_out = std::move(dist);
     return false;
   }
 
-  std::string Text(const std::vector<int>& cycle) const {
-    std::string s = "These cannot all hold, whatever the number of events: ";
+  // One branch of a proof: a negative cycle under the orders of nodes assumed in `cases`.
+  struct Leaf {
+    std::vector<std::string> cases;
+    std::vector<Edge> cycle;
+  };
+
+  // Whether the network of the edges whose parts are all in `parts` has no solution (with edge
+  // `override_edge`'s weight replaced by override_w). Two nodes happen in one order or the other
+  // (by event number, so by time), and each order brings the travel time between them (rule 6):
+  // when no order of a pair is implied already, the proof splits on it and needs a negative
+  // cycle in both branches (a disjunctive temporal network). At most kSplitBudget networks are
+  // solved; beyond, no proof. The leaves go to `proof`.
+  bool Refuted(const std::set<std::string>& parts, std::vector<Leaf>* proof,
+               int override_edge = -1, double override_w = 0) const {
+    std::vector<Edge> edges;
+    for (int k = 0; k < static_cast<int>(edges_.size()); ++k) {
+      if (!Usable(edges_[k], parts)) continue;
+      edges.push_back(edges_[k]);
+      if (k == override_edge) edges.back().w = override_w;
+    }
+    std::vector<std::string> cases;
+    int budget = kSplitBudget;
+    return Split(parts, edges, cases, proof, budget);
+  }
+
+  static constexpr int kSplitBudget = 64;
+
+  bool Split(const std::set<std::string>& parts, std::vector<Edge>& edges,
+             std::vector<std::string>& cases, std::vector<Leaf>* proof, int& budget) const {
+    if (--budget < 0) return false;
+    std::vector<Edge> cycle;
+    std::vector<double> dist;
+    if (NegativeCycle(edges, proof ? &cycle : nullptr, &dist)) {
+      if (proof) proof->push_back({cases, std::move(cycle)});
+      return true;
+    }
+    const int n = static_cast<int>(nodes_.size());
+    // The pair to split on: one whose either order is refuted at once first.
+    int bx = -1, by = -1, best = -1;
+    for (int x = 1; x < n; ++x)
+      for (int y = x + 1; y < n; ++y) {
+        const double gxy = gap_[x * n + y], gyx = gap_[y * n + x];
+        if (gxy <= kEps && gyx <= kEps) continue;
+        if (!Present(x, parts) || !Present(y, parts)) continue;
+        // "x first" adds x_x - x_y <= -gxy; implied already: the branch adds nothing.
+        if (dist[y * n + x] <= -gxy + kEps || dist[x * n + y] <= -gyx + kEps) continue;
+        const int score = (dist[x * n + y] - gxy < -kEps) + (dist[y * n + x] - gyx < -kEps);
+        if (score > best) best = score, bx = x, by = y;
+      }
+    if (bx < 0) return false;
+    for (int first : {bx, by}) {
+      const int later = first == bx ? by : bx;
+      const double g = gap_[first * n + later];
+      Edge e{later, first, -g, Automata(), "", ""};
+      e.parts.insert(nodes_[first].owner);
+      e.parts.insert(nodes_[later].owner);
+      e.parts.erase("");
+      e.why = g > kEps ? nodes_[later].desc + " comes at least " + Num(g) + " s after " +
+                             nodes_[first].desc + Under()
+                       : "";
+      edges.push_back(e);
+      cases.push_back(nodes_[first].desc + " comes no later than " + nodes_[later].desc);
+      const bool refuted = Split(parts, edges, cases, proof, budget);
+      edges.pop_back();
+      cases.pop_back();
+      if (!refuted) return false;
+    }
+    return true;
+  }
+
+  bool Present(int v, const std::set<std::string>& parts) const {
+    return nodes_[v].owner.empty() || parts.count(nodes_[v].owner);
+  }
+
+  // gap_[x * n + y]: the least travel time from node x to node y at the same or a later event.
+  void Gaps() {
+    const int n = static_cast<int>(nodes_.size());
+    gap_.assign(n * n, 0);
+    for (int x = 1; x < n; ++x)
+      for (int y = 1; y < n; ++y)
+        if (x != y) {
+          double g = LeastGap(ab_, nodes_[x].opts, nodes_[y].opts);
+          gap_[x * n + y] = std::isinf(g) ? 0 : g;
+        }
+  }
+
+  std::string Steps(const std::vector<Edge>& cycle) const {
+    std::string s;
     double sum = 0;
-    bool firstw = true;
-    for (int k : cycle) {
-      sum += edges_[k].w;
-      if (edges_[k].why.empty()) continue;
-      s += (firstw ? "" : "; ") + edges_[k].why;
-      firstw = false;
+    for (const auto& e : cycle) {
+      sum += e.w;
+      if (e.why.empty()) continue;
+      s += (s.empty() ? "" : "; ") + e.why;
     }
     if (sum < 0 && !std::isinf(sum)) s += " (" + Num(-sum) + " s too little)";
-    return s + ".";
+    return s;
+  }
+
+  std::string Text(const std::vector<Leaf>& proof) const {
+    std::string s = "These cannot all hold, whatever the number of events: ";
+    if (proof.size() == 1 && proof[0].cases.empty()) return s + Steps(proof[0].cycle) + ".";
+    s += "whichever order their events take, time runs short.";
+    for (const auto& leaf : proof) {
+      std::string cases;
+      for (const auto& c : leaf.cases) cases += (cases.empty() ? "" : " and ") + c;
+      s += " If " + cases + ": " + Steps(leaf.cycle) + ".";
+    }
+    return s;
   }
 
   // For each bound edge of the conflict: the least relaxation the network no longer refutes.
@@ -449,11 +552,11 @@ class Network {
       // In steps of the resolution: the edge weight is upper or -lower.
       long bad = std::lround(e.w / res), good = upper ? std::lround(1e7 / res) : 0;
       if (upper ? bad >= good : bad >= 0) continue;
-      if (NegativeCycle(parts, nullptr, k, good * res)) continue;  // this bound alone cannot help
-      if (!NegativeCycle(parts, nullptr, k, bad * res)) continue;  // not on a cycle
+      if (Refuted(parts, nullptr, k, good * res)) continue;  // this bound alone cannot help
+      if (!Refuted(parts, nullptr, k, bad * res)) continue;  // not on a cycle
       while (good - bad > 1) {
         long mid = bad + (good - bad) / 2;
-        if (NegativeCycle(parts, nullptr, k, mid * res)) bad = mid;
+        if (Refuted(parts, nullptr, k, mid * res)) bad = mid;
         else good = mid;
       }
       out.push_back({e.bound, upper ? good * res : -good * res});
@@ -476,6 +579,7 @@ class Network {
   std::vector<Edge> edges_;
   std::vector<EpNodes> ep_;
   std::vector<TcNodes> tc_;
+  std::vector<double> gap_;
 };
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include <thread>
 
 #include "planner/analyze/analyze.h"
+#include "planner/encode/encoder.h"
 #include "planner/explain/summary.h"
+#include "planner/smt/z3_core.h"
 
 namespace ctb {
 
@@ -119,25 +121,36 @@ class Explainer {
     bool from_static = stat.has_value();
     bool proven = true;
     std::vector<std::string> consistent;
-    // Deletion filter: drop each part that the rest can do without.
-    if (set.size() > 1 || !from_static) {
-      for (const std::string& p : std::vector<std::string>(set)) {
-        std::vector<std::string> rest;
-        for (const auto& x : set)
-          if (x != p) rest.push_back(x);
+    const bool filter = set.size() > 1 || !from_static;
+    // Quick pass: plans come fast (the first-plan engine), proofs do not. Each set without one
+    // part is checked with a short limit; the parts whose removal leaves a plan are needed.
+    if (filter) {
+      const long cap = eo_.relaxation_check_ms;
+      for (const std::string& p : set) {
         // A static conflict is usually minimal: the whole plan without p, when feasible, shows
         // the rest feasible too (it keeps more) and is the relaxation "drop p" at once.
-        if (from_static && !rest.empty()) CheckParts(Without(p));
+        if (from_static && set.size() > 1) CheckParts(Without(p), cap);
+        auto rest = Minus(set, p);
+        if (!rest.empty()) CheckParts(rest, cap);
+      }
+    }
+    // The parts left undecided need proofs. Static analysis could not explain: a minimised
+    // unsatisfiable core from z3 (which may also leave parts undecided), then the filter.
+    const bool from_core = !from_static && filter && Undecided(set) && CoreFromZ3(set, proven);
+    // Deletion filter: drop each part that the rest can do without.
+    if (!from_core && filter) {
+      for (const std::string& p : std::vector<std::string>(set)) {
+        auto rest = Minus(set, p);
         Verdict v = rest.empty() ? Verdict::kFeasible : CheckParts(rest);
         if (v == Verdict::kInfeasible) {
           set = rest;
         } else if (v == Verdict::kUnknown) {
           proven = false;
-        } else if (v == Verdict::kFeasible && rest.size() > consistent.size()) {
-          consistent = rest;
         }
       }
     }
+    for (const auto& f : feasible_)  // the largest set shown feasible, for "unknown"
+      if (f.size() > consistent.size()) consistent = f;
     if (set.empty() || (!from_static && set == parts_ && parts_.empty())) {
       out["status"] = "unknown";
       return Finish(out, t0);
@@ -157,6 +170,10 @@ class Explainer {
     out["conflicts"].push_back({{"constraints", set}, {"text", text}});
     out["status"] = proven ? "minimal" : "unknown";
     if (!proven) out["consistent"] = consistent;
+    route_ = from_static ? "static analysis"
+             : from_core && z3_checks_ > 0 ? "z3 core"
+                                            : "deletion filter";
+    conflict_ms_ = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
     Relax(set, stat, out["relaxations"]);
     return Finish(out, t0);
   }
@@ -166,6 +183,11 @@ class Explainer {
     out["stats"] = {
         {"solver_calls", calls_},
         {"ms", std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count()}};
+    if (!route_.empty()) {
+      out["stats"]["conflict_by"] = route_;
+      out["stats"]["conflict_ms"] = conflict_ms_;
+    }
+    if (z3_checks_ >= 0) out["stats"]["z3_checks"] = z3_checks_;
     return out;
   }
 
@@ -177,6 +199,95 @@ class Explainer {
     for (const auto& s : summary_)
       if (s["pointer"] == pointer) return s["text"].get<std::string>();
     return PartName(pointer) + ".";
+  }
+
+  // The parts a reduced plan cannot drop alone (another part's condition names them).
+  bool Droppable(const std::string& p) const {
+    Diagnostics diags;
+    return LoadStatePlan(Only(Without(p)), d_, diags).has_value();
+  }
+
+  // A minimised unsatisfiable core of the z3 model at the solve's horizon (planner/smt/
+  // z3_core.h) within `set` (the whole plan, which the solve proved infeasible at that horizon):
+  // one model with a literal per part that may be dropped, static analysis and the sets known
+  // feasible tried on each subset first, half the remaining time. True when the core is shown
+  // minimal; else `set` is the core reached (infeasible), and the filter goes on from it. Does
+  // not apply (false, nothing changed) to replanning, a substituted engine, or parts whose
+  // removal would make a command private (a different model).
+  bool CoreFromZ3(std::vector<std::string>& set, bool& proven) {
+    if (!eo_.z3_cores || so_.history || so_.backend || set != parts_) return false;
+    std::vector<std::string> fixed, switched;
+    for (const auto& p : parts_) (Droppable(p) ? switched : fixed).push_back(p);
+    if (switched.empty()) return false;
+    Diagnostics diags;
+    auto least = LoadStatePlan(Only(fixed), d_, diags);
+    const ProblemInfo info = ctb::Analyze(d_, sp_);
+    if (!least || ctb::Analyze(d_, *least).command_public != info.command_public) return false;
+    std::vector<smt::CorePart> parts;
+    for (const auto& p : switched) parts.push_back(CorePartOf(p));
+    EncodeOptions eo;
+    eo.horizon = so_.horizon ? *so_.horizon : so_.max_horizon;
+    eo.objective = Objective::kCost;
+    eo.redundant = so_.redundant;
+    const ModelSpec spec{&d_, &sp_, &info, eo};
+    auto pointers = [&](const std::vector<int>& idx) {
+      std::vector<std::string> out = fixed;
+      for (int i : idx) out.push_back(switched[i]);
+      return out;
+    };
+    smt::CoreOptions co;
+    co.limits.time_limit_ms = std::max(1L, Remaining() / 2);
+    co.limits.cancel = so_.cancel;
+    co.known_infeasible = true;
+    auto indices = [&](const std::vector<std::string>& ptrs) {
+      std::vector<int> idx;
+      for (const auto& p : ptrs) {
+        auto it = std::find(switched.begin(), switched.end(), p);
+        if (it != switched.end()) idx.push_back(static_cast<int>(it - switched.begin()));
+      }
+      std::sort(idx.begin(), idx.end());
+      return idx;
+    };
+    for (const auto& f : feasible_) co.feasible.push_back(indices(f));
+    // A set already shown infeasible (the quick pass), or static analysis of the subset.
+    co.known_core = [&](const std::vector<int>& on) -> std::optional<std::vector<int>> {
+      std::vector<std::string> ptrs = pointers(on);
+      std::sort(ptrs.begin(), ptrs.end());
+      for (const auto& f : infeasible_)
+        if (std::includes(ptrs.begin(), ptrs.end(), f.begin(), f.end())) return indices(f);
+      Diagnostics dg;
+      auto sp = LoadStatePlan(Only(ptrs), d_, dg);
+      if (!sp) return std::nullopt;
+      auto c = FindStaticConflict(d_, *sp);
+      if (!c) return std::nullopt;
+      return indices(c->parts);
+    };
+    smt::CoreResult r = smt::FindCoreWithZ3(spec, parts, co);
+    z3_checks_ = r.checks;
+    for (const auto& f : r.feasible) {  // every set shown to have a plan answers for its subsets
+      auto ptrs = pointers(f);
+      std::sort(ptrs.begin(), ptrs.end());
+      feasible_.push_back(ptrs);
+    }
+    if (r.status != smt::CoreResult::Status::kInfeasible) return false;
+    set = pointers(r.core);
+    if (!r.minimal) return false;
+    proven = true;
+    return true;
+  }
+
+  smt::CorePart CorePartOf(const std::string& pointer) const {
+    auto t = Tokens(pointer);
+    using Kind = smt::CorePart::Kind;
+    if (t.size() == 2) return {t[1] == "goal_constraint" ? Kind::kGoal : Kind::kMaintenance, 0};
+    auto index = [&](const auto& list) {
+      for (std::size_t i = 0; i < list.size(); ++i)
+        if (list[i].name == t[2]) return static_cast<int>(i);
+      return -1;
+    };
+    if (t[1] == "episodes") return {Kind::kEpisode, index(sp_.episodes)};
+    if (t[1] == "temporal") return {Kind::kTemporal, index(sp_.temporals)};
+    return {Kind::kEvent, index(sp_.events)};
   }
 
   // The state plan's JSON with only `keep` of the parts.
@@ -198,21 +309,52 @@ class Explainer {
     return out;
   }
 
-  // The state plan with only `keep` of the parts (bounds as given), checked once: a plan for a
-  // set of parts, cut at the first event at which a subset and the goal are met, is a plan for
-  // the subset, so every subset of a feasible set is feasible without a solve.
-  Verdict CheckParts(const std::vector<std::string>& keep) {
+  static std::vector<std::string> Minus(const std::vector<std::string>& set, const std::string& p) {
+    std::vector<std::string> rest;
+    for (const auto& x : set)
+      if (x != p) rest.push_back(x);
+    return rest;
+  }
+
+  // What is known of a set of parts without a solve: a plan for a set of parts, cut at the first
+  // event at which a subset and the goal are met, is a plan for the subset, so every subset of
+  // a feasible set is feasible; every superset of an infeasible set is infeasible.
+  Verdict Known(const std::vector<std::string>& keep) const {
     std::vector<std::string> sorted = keep;
     std::sort(sorted.begin(), sorted.end());
     for (const auto& f : feasible_)
       if (std::includes(f.begin(), f.end(), sorted.begin(), sorted.end())) return Verdict::kFeasible;
-    Verdict v = Check(Only(keep));
+    for (const auto& f : infeasible_)
+      if (std::includes(sorted.begin(), sorted.end(), f.begin(), f.end()))
+        return Verdict::kInfeasible;
+    return Verdict::kUnknown;
+  }
+
+  // Whether some part's removal from `set` is not yet known to leave a plan.
+  bool Undecided(const std::vector<std::string>& set) const {
+    for (const auto& p : set) {
+      auto rest = Minus(set, p);
+      if (!rest.empty() && Known(rest) != Verdict::kFeasible) return true;
+    }
+    return false;
+  }
+
+  // The state plan with only `keep` of the parts (bounds as given), checked once (Known first;
+  // cap_ms as in Check).
+  Verdict CheckParts(const std::vector<std::string>& keep, long cap_ms = 0) {
+    Verdict known = Known(keep);
+    if (known != Verdict::kUnknown) return known;
+    std::vector<std::string> sorted = keep;
+    std::sort(sorted.begin(), sorted.end());
+    Verdict v = Check(Only(keep), nullptr, cap_ms);
     if (v == Verdict::kFeasible) feasible_.push_back(sorted);
+    if (v == Verdict::kInfeasible) infeasible_.push_back(sorted);
     return v;
   }
 
-  // Solves a state plan given as JSON. `witness` receives the trajectory when feasible.
-  Verdict Check(const Json& j, Json* witness = nullptr) {
+  // Solves a state plan given as JSON. `witness` receives the trajectory when feasible. With
+  // cap_ms > 0 the solve stops after that long (kUnknown unless a plan was found).
+  Verdict Check(const Json& j, Json* witness = nullptr, long cap_ms = 0) {
     Diagnostics diags;
     auto sp = LoadStatePlan(j, d_, diags);
     if (!sp) return Verdict::kCannotDrop;  // a part others name: cannot be dropped alone
@@ -220,7 +362,7 @@ class Explainer {
     long left = Remaining();
     if (left < 50 || (so_.cancel && so_.cancel->load())) return Verdict::kUnknown;
     SolveOptions o = so_;
-    o.time_limit_ms = left;
+    o.time_limit_ms = cap_ms > 0 ? std::min(left, cap_ms) : left;
     ++calls_;
     // Feasibility needs one verified plan, not an optimum: without a witness to return, the
     // solve stops at the first plan it keeps (whole problems report each plan; the parts of a
@@ -296,13 +438,15 @@ class Explainer {
     };
     if (upper ? hi >= kMaxBound : lo <= 0) return;
     // A witness with the bound out of the way gives a feasible value.
+    // Checks of relaxed bounds need a plan, not a proof: each stops after relaxation_check_ms.
+    const long cap = eo_.relaxation_check_ms;
     std::optional<double> good;
     if (hint && (upper ? *hint > hi : *hint < lo)) {
-      if (Check(with(*hint)) == Verdict::kFeasible) good = *hint;
+      if (Check(with(*hint), nullptr, cap) == Verdict::kFeasible) good = *hint;
     }
     if (!good) {
       Json w;
-      if (Check(with(upper ? kMaxBound : 0), &w) != Verdict::kFeasible) return;
+      if (Check(with(upper ? kMaxBound : 0), &w, cap) != Verdict::kFeasible) return;
       auto v = Realized(w, t[1], t[2]);
       if (!v) return;
       good = upper ? std::max(*v, hi + res) : std::min(*v, lo - res);
@@ -311,9 +455,14 @@ class Explainer {
     // Binary search between the failing bound and the good value, in steps of the resolution.
     long bad_steps = std::lround((upper ? hi : lo) / res), good_steps = std::lround(*good / res);
     bool exact = true;
+    const auto search_end = Clock::now() + std::chrono::milliseconds(eo_.relaxation_search_ms);
     while (std::labs(good_steps - bad_steps) > 1) {
+      if (Clock::now() >= search_end) {
+        exact = false;
+        break;
+      }
       long mid = (good_steps + bad_steps) / 2;
-      Verdict v = Check(with(mid * res));
+      Verdict v = Check(with(mid * res), nullptr, cap);
       if (v == Verdict::kFeasible) good_steps = mid;
       else if (v == Verdict::kInfeasible) bad_steps = mid;
       else {
@@ -329,7 +478,8 @@ class Explainer {
                                    " s for " + PartName(pointer) + "."
                              : "Accept " + SecondsText(value) + " s instead of at least " +
                                    SecondsText(old) + " s for " + PartName(pointer) + ".";
-    if (!exact) text += " (A smaller change may also work; the time limit ended the search.)";
+    if (!exact)
+      text += " (A smaller change may also work; the search for the least one was cut short.)";
     out.push_back({changes, text, std::fabs(value - old) / std::max(old, res)});
   }
 
@@ -373,7 +523,11 @@ class Explainer {
   std::vector<std::string> parts_;
   std::set<std::string> relaxable_;  // parts with a bound relaxation shown feasible
   std::vector<std::vector<std::string>> feasible_;  // sets of parts shown feasible (sorted)
+  std::vector<std::vector<std::string>> infeasible_;  // sets shown infeasible (sorted)
   int calls_ = 0;
+  int z3_checks_ = -1;  // -1: the z3 core route did not run
+  std::string route_;   // what found the conflict
+  long conflict_ms_ = 0;  // until the conflict was known (then the relaxations)
 };
 
 }  // namespace

@@ -83,7 +83,7 @@ class Search {
       helpful_[e.node] = est.helpful;
       h_[e.node] = est.h;
       Expand(e.node, true);
-      if (!stop_) open_.push({est.h, kFull, seq_++, e.node});
+      if (!stop_) Push(e.node, est.h, kFull);
     }
     return Finish(true);
   }
@@ -107,7 +107,23 @@ class Search {
     return {0, 0};
   }
 
-  void Push(int node, double h, Rank rank) { open_.push({h, rank, seq_++, node}); }
+  // Greedy on h until the first plan; then on g + h (the objective so far plus the estimate), so
+  // that the improvement phase looks for better plans rather than other plans.
+  void Push(int node, double h, Rank rank) {
+    if (improving_) h += static_cast<double>(ValueOf(pool_[node]).first);
+    open_.push({h, rank, seq_++, node});
+  }
+
+  // At the first plan: the open list again, ordered on g + h.
+  void Reorder() {
+    std::vector<Entry> all;
+    for (; !open_.empty(); open_.pop()) all.push_back(open_.top());
+    for (Entry e : all) {
+      e.h += static_cast<double>(ValueOf(pool_[e.node]).first);
+      open_.push(e);
+    }
+    improving_ = true;
+  }
 
   // Adds a child unless an equal future was reached at least as well; a finished run is offered
   // as a plan instead.
@@ -220,10 +236,13 @@ class Search {
       ++r_.rejected;
       return;
     }
-    if (!best_) {
+    // The improvement window after the first plan; with a bound to reach (good_enough), the
+    // whole budget: a plan that meets it spares the exact engines the proof.
+    if (!best_ && !o_.good_enough) {
       const long now = ElapsedMs();
       deadline_ms_ = std::min(deadline_ms_, now + std::max(o_.improve_min_ms, now));
     }
+    if (!best_) Reorder();
     best_ = v;
     r_.best = std::move(t);
     r_.cost = n.cost;
@@ -255,6 +274,7 @@ class Search {
   long seq_ = 0;
   long deadline_ms_ = o_.time_limit_ms;
   bool stop_ = false;
+  bool improving_ = false;
   FirstPlanResult r_;
 };
 

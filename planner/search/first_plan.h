@@ -14,8 +14,9 @@
 //
 // Greedy best-first search with deferred evaluation and preferred successors, guided by a
 // relaxed-plan (FF) heuristic over the automata's location facts (costs are durations for
-// makespan, transition costs otherwise), then, while time remains, the same search continues and
-// keeps only strictly better plans (anytime). Not complete: it may find no plan where one exists.
+// makespan, transition costs otherwise), then, while time remains, the same search continues on
+// g + h (the objective so far plus the estimate) and keeps only strictly better plans (anytime).
+// Not complete: it may find no plan where one exists.
 //
 // Declines (no plan, `declined` set) state plans whose conditions read commands or fixed stages,
 // and state plans with shared events.
@@ -38,6 +39,7 @@ struct FirstPlanOptions {
   long time_limit_ms = 500;  // the whole search, improvements included
   // After the first plan (found at t ms) the search goes on for at most max(improve_min_ms,
   // t) more, within time_limit_ms: improvements are cheap near the first plan, rare later.
+  // With good_enough set, until time_limit_ms (a plan that meets the bound spares a proof).
   long improve_min_ms = 20;
   int max_events = 32;       // plans with more events are not returned
   const std::atomic<bool>* cancel = nullptr;

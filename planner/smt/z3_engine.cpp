@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "planner/smt/z3_model.h"
+#include "planner/smt/z3_watchdog.h"
 
 namespace ctb::smt {
 
@@ -93,45 +94,6 @@ Json SolutionJson(const Model& m, const z3::model& mod) {
   }
   return s;
 }
-
-// Interrupts the context at the deadline or on cancellation, every 20 ms until stopped (an
-// interrupt that arrives between two checks could otherwise be lost).
-class Watchdog {
- public:
-  Watchdog(z3::context& z, Clock::time_point deadline, const std::atomic<bool>* cancel)
-      : z_(z), deadline_(deadline), cancel_(cancel), thread_([this] { Loop(); }) {}
-  ~Watchdog() {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-  bool Fired() const { return fired_.load(); }
-
- private:
-  void Loop() {
-    std::unique_lock<std::mutex> lock(mu_);
-    while (!stop_) {
-      cv_.wait_for(lock, std::chrono::milliseconds(20));
-      if (stop_) break;
-      if (Clock::now() >= deadline_ || (cancel_ && cancel_->load())) {
-        fired_ = true;
-        z_.interrupt();
-      }
-    }
-  }
-
-  z3::context& z_;
-  Clock::time_point deadline_;
-  const std::atomic<bool>* cancel_;
-  std::mutex mu_;
-  std::condition_variable cv_;
-  bool stop_ = false;
-  std::atomic<bool> fired_{false};
-  std::thread thread_;
-};
 
 bool Cancelled(const Z3Limits& limits) { return limits.cancel && limits.cancel->load(); }
 

@@ -4,6 +4,7 @@
 
 #include <z3++.h>
 
+#include <optional>
 #include <vector>
 
 #include "planner/encode/encoder.h"
@@ -29,6 +30,15 @@ struct OrderVar {
   z3::expr Gt(int k) const;  // value > k: true for k < 0, false for k >= H
   z3::expr Le(int k) const { return !Gt(k); }
   z3::expr Eq(int k) const { return Gt(k - 1) && !Gt(k); }
+};
+
+// Assumption literals of the state plan's parts (z3_core.h): each part's constraints hold only
+// under its literal, so a check under a subset of them solves the plan with only those parts
+// (the others dropped as the explanation drops them: a goal or maintenance constraint becomes
+// true, an episode or temporal constraint goes with its endpoints in shared events).
+struct PartLiterals {
+  z3::expr goal, maintenance;
+  Exprs episodes, temporals, events;
 };
 
 // The model's variables. Times (e, N) are integers, so time constraints are differences of two
@@ -57,8 +67,12 @@ struct Model {
   std::vector<OrderVar> ep_s, ep_e, tc_1, tc_2, tc_a, tc_b;
   z3::expr cost, makespan, objective;
   z3::expr_vector constraints;
+  // Set before AddStatePlan for a model with switchable parts; unset: every part holds.
+  std::optional<PartLiterals> parts;
+  // While set (AddStatePlan, per part), Add() adds its constraint under this literal.
+  std::optional<z3::expr> gate;
 
-  void Add(const z3::expr& c) { constraints.push_back(c); }
+  void Add(const z3::expr& c) { constraints.push_back(gate ? z3::implies(*gate, c) : c); }
   z3::expr Int(const std::string& name);
   z3::expr Bool(const std::string& name);
   OrderVar Order(const std::string& name);

@@ -11,6 +11,22 @@ namespace ctb::smt {
 
 namespace {
 
+// Adds the constraints made in its scope under `lit` (nothing when the parts are not switched).
+class Gate {
+ public:
+  Gate(Model& m, const z3::expr* lit) : m_(m) {
+    if (lit) m_.gate = *lit;
+  }
+  ~Gate() { m_.gate.reset(); }
+
+ private:
+  Model& m_;
+};
+
+const z3::expr* Literal(const Model& m, const Exprs PartLiterals::*group, int i) {
+  return m.parts ? &((*m.parts).*group)[i] : nullptr;
+}
+
 long Ticks(const Model& m, double seconds) {
   return std::lround(seconds * static_cast<double>(m.info.ticks_per_second));
 }
@@ -55,6 +71,7 @@ void TimeBetween(Model& m, const OrderVar& from, const OrderVar& to, double lo, 
 // Episode p: starts at the first event at which its accepting condition holds, ends at a later
 // event no later than g, lasts within its bounds; its state constraint holds from start to end.
 void AddEpisode(Model& m, int p) {
+  Gate gate(m, Literal(m, &PartLiterals::episodes, p));
   const Episode& ep = m.sp.episodes[p];
   const OrderVar &s = m.ep_s[p], &e = m.ep_e[p];
   FirstHolds(m, s, CondArray(m, ep.accepting, CondMode::kEvent));
@@ -71,6 +88,7 @@ void AddEpisode(Model& m, int p) {
 // accepted at the other (TC_B) no later than g, the time between within bounds; both at the
 // first event: accepted at once when the lower bound is 0, failed otherwise.
 void AddTemporal(Model& m, int q) {
+  Gate gate(m, Literal(m, &PartLiterals::temporals, q));
   const Temporal& tc = m.sp.temporals[q];
   const OrderVar &t1 = m.tc_1[q], &t2 = m.tc_2[q], &ta = m.tc_a[q], &tb = m.tc_b[q];
   Exprs c1 = CondArray(m, tc.event1, CondMode::kEvent);
@@ -105,21 +123,43 @@ void AddSharedEvents(Model& m) {
     }
     return m.tc_2[p.index];
   };
-  for (const auto& ev : m.sp.events)
-    for (std::size_t k = 1; k < ev.endpoints.size(); ++k)
-      m.Add(Equal(m, var(ev.endpoints[0]), var(ev.endpoints[k])));
+  if (!m.parts) {
+    for (const auto& ev : m.sp.events)
+      for (std::size_t k = 1; k < ev.endpoints.size(); ++k)
+        m.Add(Equal(m, var(ev.endpoints[0]), var(ev.endpoints[k])));
+    return;
+  }
+  // Switched: the endpoints of the parts still there are pairwise equal.
+  auto owner = [&](const Endpoint& p) {
+    const bool episode =
+        p.kind == EndpointKind::kEpisodeStart || p.kind == EndpointKind::kEpisodeEnd;
+    return episode ? m.parts->episodes[p.index] : m.parts->temporals[p.index];
+  };
+  for (std::size_t v = 0; v < m.sp.events.size(); ++v) {
+    const auto& ends = m.sp.events[v].endpoints;
+    for (std::size_t i = 0; i < ends.size(); ++i)
+      for (std::size_t j = i + 1; j < ends.size(); ++j)
+        m.Add(z3::implies(m.parts->events[v] && owner(ends[i]) && owner(ends[j]),
+                          Equal(m, var(ends[i]), var(ends[j]))));
+  }
 }
 
 // g is the first event at which the goal holds and every episode and temporal constraint is
 // accepted; the maintenance constraint holds on every stage before it.
 void AddEndState(Model& m) {
   Exprs done = CondArray(m, m.sp.goal, CondMode::kEvent);
+  const PartLiterals* lit = m.parts ? &*m.parts : nullptr;
   for (int k = 0; k <= m.H; ++k) {
-    for (const auto& e : m.ep_e) done[k] = done[k] && e.Le(k);
-    for (const auto& b : m.tc_b) done[k] = done[k] && b.Le(k);
+    if (lit) done[k] = z3::implies(lit->goal, done[k]);
+    for (std::size_t p = 0; p < m.ep_e.size(); ++p)
+      done[k] = done[k] && (lit ? z3::implies(lit->episodes[p], m.ep_e[p].Le(k)) : m.ep_e[p].Le(k));
+    for (std::size_t q = 0; q < m.tc_b.size(); ++q)
+      done[k] =
+          done[k] && (lit ? z3::implies(lit->temporals[q], m.tc_b[q].Le(k)) : m.tc_b[q].Le(k));
   }
   FirstHolds(m, m.g, done);
   if (IsTrueCondition(m.sp.maintenance)) return;
+  Gate gate(m, lit ? &lit->maintenance : nullptr);
   for (int k = 0; k <= m.H; ++k)
     m.Add(z3::implies(m.g.Gt(k), CondAt(m, m.sp.maintenance.expr, m.sp.maintenance.info,
                                         CondMode::kStage, k)));

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "planner/analyze/relaxed_cost.h"
+#include "planner/analyze/workload.h"
 
 namespace ctb {
 
@@ -140,8 +141,10 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   for (std::size_t a = 0; a < na; ++a)
     b.events = std::max(b.events, Needs(d.automata[a], sp.initial[a], visits[a], last_loc[a], by_event));
   AddGuardLandmarks(d, sp, final_loc, visits);
+  std::vector<long> own_cost(na, 0);
   for (std::size_t a = 0; a < na; ++a) {
-    b.cost += Needs(d.automata[a], sp.initial[a], visits[a], final_loc[a], by_cost);
+    own_cost[a] = Needs(d.automata[a], sp.initial[a], visits[a], final_loc[a], by_cost);
+    b.cost += own_cost[a];
     b.makespan_ticks = std::max(b.makespan_ticks,
                                 Needs(d.automata[a], sp.initial[a], visits[a], final_loc[a], by_time));
   }
@@ -163,11 +166,20 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   // The delete relaxation counts the help automata give each other (analyze/relaxed_cost.h).
   if (auto relaxed = RelaxedCostBound(d, sp)) b.cost = std::max(b.cost, *relaxed);
   // Guards, dwell in an episode's location and the state plan's temporal network.
-  if (auto earliest = ComputeEarliestTimes(d, sp); earliest && earliest->goal < EarliestTimes::kNever)
+  const auto earliest = ComputeEarliestTimes(d, sp);
+  if (earliest && earliest->goal < EarliestTimes::kNever)
     b.makespan_ticks = std::max(b.makespan_ticks, earliest->goal);
   // The same rules, counted in events.
-  if (auto ev = ComputeEarliestTimes(d, sp, Measure::kEvents); ev && ev->goal < EarliestTimes::kNever)
-    b.events = std::max(b.events, ev->goal);
+  const auto ev = ComputeEarliestTimes(d, sp, Measure::kEvents);
+  if (ev && ev->goal < EarliestTimes::kNever) b.events = std::max(b.events, ev->goal);
+  // Work only helpers can do, spread over the helpers (analyze/workload.h). The helpers' own
+  // ways and the work charged to them count the same transitions: the larger of the two.
+  const Workload w = ComputeWorkload(d, sp, earliest ? &*earliest : nullptr, ev ? &*ev : nullptr);
+  b.makespan_ticks = std::max(b.makespan_ticks, w.makespan_ticks);
+  b.events = std::max(b.events, w.events);
+  long others = 0, helpers = 0;
+  for (std::size_t a = 0; a < na; ++a) (w.helper[a] ? helpers : others) += own_cost[a];
+  b.cost = std::max(b.cost, others + std::max(helpers, w.helper_cost));
   return b;
 }
 

@@ -1,7 +1,9 @@
-// One answer of /plan drawn into its turn: the verdict, the plan in words (state_plan_summary),
-// the explanation of an infeasible plan with its relaxations as buttons, the timeline, the
-// exports, the reasoning and the state plan.
+// One answer of /plan (or of /replan, wrapped by app.js) drawn into its turn: the verdict, the
+// plan in words (state_plan_summary), the explanation of an infeasible plan with its relaxations
+// as buttons, the timeline, for a replanned plan its diff against the previous one, the execution
+// control (execute.js), the exports, the reasoning and the state plan.
 import { renderTimeline, clock, seconds } from "./timeline.js";
+import { attachExecution, executable } from "./execute.js";
 
 function el(tag, attrs = {}, text) {
   const e = document.createElement(tag);
@@ -147,7 +149,33 @@ function wordsList(words, conflictPointers) {
   return box;
 }
 
-// Draws `data` (a /plan answer) into `into`. ctx: {domainInfo, followUp(command)}.
+// A replanned future against the previous plan's (the answer's diff): counts, then every moved,
+// added and dropped transition.
+function diffBlock(t, previousGoal) {
+  const d = t.diff;
+  const box = el("div", { class: "diff", role: "group", "aria-label": "Against the previous plan" });
+  box.appendChild(el("h3", {}, "Against the previous plan"));
+  const counts = ["kept", "moved", "added", "dropped"].map((k) => `${(d[k] || []).length} ${k}`).join(" · ");
+  const goal = typeof t.goal_reached_at === "number" && typeof previousGoal === "number" && t.goal_reached_at !== previousGoal
+    ? `goal ${clock(t.goal_reached_at)} (was ${clock(previousGoal)}) · ` : "";
+  box.appendChild(el("p", { class: "diff-counts" }, goal + counts));
+  const ul = el("ul", { class: "diff-items" });
+  const what = (x) => `${x.automaton} ${x.command || "(automatic)"}: ${x.from} → ${x.to}`;
+  for (const x of d.moved || []) ul.appendChild(item("moved", `${what(x)}, ${clock(x.time_before)} → ${clock(x.time_after)}`));
+  for (const x of d.added || []) ul.appendChild(item("added", `${what(x)} at ${clock(x.time_after)}`));
+  for (const x of d.dropped || []) ul.appendChild(item("dropped", `${what(x)}, was at ${clock(x.time_before)}`));
+  if (ul.childNodes.length) box.appendChild(ul);
+  return box;
+
+  function item(kind, text) {
+    const li = el("li", { class: `diff-${kind}` });
+    li.append(el("span", { class: "diff-kind" }, kind), document.createTextNode(` ${text}`));
+    return li;
+  }
+}
+
+// Draws `data` (a /plan answer) into `into`. ctx: {domainInfo, followUp(command), execution?}
+// (execution: execute.js's context; without it the plan cannot be executed from this turn).
 export function renderAnswer(into, data, ctx) {
   const t = data.trajectory || {};
   const words = t.state_plan_summary || data.state_plan_summary || [];
@@ -161,7 +189,8 @@ export function renderAnswer(into, data, ctx) {
     const s = t.stats;
     into.appendChild(el("div", { class: "stats" },
       `solved in ${seconds((s.solve_ms || 0) / 1000)}` + (t.horizon !== undefined ? ` · ${t.horizon} events` : "") +
-      (s.parts ? ` · ${s.parts} independent parts` : "")));
+      (s.parts ? ` · ${s.parts} independent parts` : "") +
+      (typeof t.now === "number" ? ` · replanned from ${clock(t.now)}` : "")));
   }
   if (warnings.length) {
     const w = el("ul", { class: "warnings", "aria-label": "Warnings" });
@@ -173,10 +202,13 @@ export function renderAnswer(into, data, ctx) {
   if (words.length) body.appendChild(wordsList(words, conflictPointers));
   if (ex && t.status === "infeasible") body.appendChild(explanationBlock(ex, words, ctx.followUp));
   if (body.childNodes.length) into.appendChild(body);
+  const canRun = !!ctx.execution && executable(t);
+  let api = null;
   if (t.timelines && Object.keys(t.timelines).length) {
     const chart = el("div", { class: "chart" });
     into.appendChild(chart);
-    renderTimeline(chart, t, data.state_plan, ctx.domainInfo);
+    api = renderTimeline(chart, t, data.state_plan, ctx.domainInfo, { history: t.now, diff: t.diff,
+      previousGoal: data.previous_goal, executable: canRun });
     // Hovering a sentence of the plan in words lights up its bracket.
     for (const li of into.querySelectorAll(".plan-words li[data-pointer]")) {
       const on = (v) => () => {
@@ -186,6 +218,8 @@ export function renderAnswer(into, data, ctx) {
       li.addEventListener("mouseleave", on(false));
     }
   }
+  if (api && canRun) attachExecution(into, t, api, ctx.execution);
+  if (t.diff) into.appendChild(diffBlock(t, data.previous_goal));
   const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);
   into.appendChild(exportsBar(data.trajectory, data.state_plan, stamp));
   if (data.reasoning) into.appendChild(details("Reasoning", data.reasoning, "reasoning"));

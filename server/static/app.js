@@ -2,9 +2,12 @@
 // turn: POST /plan with "stream": true shows the stage, the elapsed time and the best plan so far
 // while it runs (Stop cancels the job on the server), then the answer (answer.js). The session
 // id is kept in the URL and in localStorage, and a reload restores the turns: from
-// GET /sessions/{id} when the server has it, else from this browser's copy (store.js).
+// GET /sessions/{id} when the server has it, else from this browser's copy (store.js). A plan can
+// be executed on the page (execute.js); a fault reported there replans (POST /replan, in the
+// session when the plan is the dialogue's latest) into a turn of its own.
 import { postStream } from "./sse.js";
 import { renderAnswer, renderRemembered } from "./answer.js";
+import { executable } from "./execute.js";
 import { clock, seconds } from "./timeline.js";
 import * as store from "./store.js";
 import { initTeam, domainChanged } from "./domains.js";
@@ -201,11 +204,60 @@ async function send(command, { fresh = false } = {}) {
     setSessionLabel();
   }
   section.dataset.session = state.session || "";
-  renderAnswer(turn, data, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c) });
+  renderAnswer(turn, data, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c),
+    execution: executionContext(turn, data) });
   announce(`Answer: ${turn.querySelector(".summary")?.textContent || ""}`);
   if (state.session) store.addTurn(state.session, section.dataset.domain, { command, answer: data, at });
   if ($("command").value.trim() === command) $("command").value = "";
   updateCounter();
+}
+
+// What execute.js needs from the page to execute `data` (an answer drawn in `turn`).
+function executionContext(turn, data, carry) {
+  return { announce, carry, replan: (body, meta) => replanFrom(turn, data, body, meta) };
+}
+
+// A fault reported while `data` (drawn in `fromTurn`) was executed: POST /replan (streamed, like
+// /plan), the answer drawn as a new turn of the dialogue, the execution handed on to it with
+// meta.carry. In the session when `fromTurn` holds the session's current plan (the replan is
+// then a turn of the session, and the session's plan becomes the replanned one); otherwise with
+// the turn's domain and state plan. Resolves to whether the replanned plan can be executed.
+async function replanFrom(fromTurn, data, body, meta) {
+  const section = fromTurn.closest(".dialogue");
+  const answered = [...section.querySelectorAll(":scope > .turn")].filter((x) => x.querySelector(".summary"));
+  const inSession = !!state.session && section.dataset.session === state.session && answered.at(-1) === fromTurn;
+  if (inSession) body.session = state.session;
+  else Object.assign(body, { domain: section.dataset.domain, state_plan: data.state_plan });
+  const turn = addTurnShell(section, meta.label);
+  turn.classList.add("replan-turn");
+  const progress = progressView(turn);
+  turn.scrollIntoView({ block: "nearest" });
+  let result;
+  try {
+    result = await postStream("/replan", body, { onEvent: (n, d) => progress.event(n, d) });
+  } catch (err) {
+    progress.finish("failed");
+    showError(turn, 0, { error: { code: "network", message: String(err) } }, {});
+    announce("The replan failed.");
+    return false;
+  }
+  if (result.status !== 200) {
+    progress.finish("failed");
+    showError(turn, result.status, result.data, {});
+    announce(`The replan failed: ${result.data?.error?.message || result.status}`);
+    return false;
+  }
+  const t = result.data;
+  progress.finish("replanned");
+  const answer = { trajectory: t, state_plan: data.state_plan, previous_goal: data.trajectory?.goal_reached_at };
+  if (t.session) answer.session = t.session;
+  renderAnswer(turn, answer, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c),
+    execution: executionContext(turn, answer, meta.carry) });
+  announce(`Replanned: ${turn.querySelector(".summary")?.textContent || ""}`);
+  if (inSession)
+    store.addTurn(state.session, section.dataset.domain, { command: "(replan)", label: meta.label, answer,
+      execution: { ...meta.carry, running: false }, at: new Date().toISOString() });
+  return executable(t);
 }
 
 function updateCounter() {
@@ -259,10 +311,12 @@ async function restore() {
   // The server keeps answered turns only; this browser keeps failed ones too.
   const answered = (local?.turns || []).filter((x) => x.answer);
   turns.forEach((t, i) => {
-    const turn = addTurnShell(section, t.command);
     const kept = remote ? (answered[i]?.command === t.command ? answered[i] : null) : t;
+    const turn = addTurnShell(section, kept?.label || t.command);
+    if (t.command === "(replan)") turn.classList.add("replan-turn");
     if (!kept) renderRemembered(turn, t);
-    else if (kept.answer) renderAnswer(turn, kept.answer, { domainInfo: info, followUp: (c) => send(c) });
+    else if (kept.answer) renderAnswer(turn, kept.answer, { domainInfo: info, followUp: (c) => send(c),
+      execution: executionContext(turn, kept.answer, kept.execution) });
     else if (kept.error) turn.appendChild(el("div", { class: "error" }, errorText(kept.error.status, kept.error.data)));
   });
   store.setCurrentSession(id);

@@ -5,9 +5,18 @@
 // legend, hover and tap cards, zoom and pan. It is drawn for the width of its container and
 // redrawn when that changes, so it never makes the page scroll sideways.
 //
-//   renderTimeline(container, trajectory, statePlan, domain) -> {svg, legend, table}
+//   renderTimeline(container, trajectory, statePlan, domain, opts) -> {wrap, legend, table,
+//     stage, redraw, setNow(t), setPick(fn)}
 // `statePlan` gives the bounds (may be null); `domain` (GET /domains/{name}) gives each
 // automaton's locations in order, so a location keeps its colour from plan to plan (may be null).
+// opts (all optional), for execution (execute.js) and replanned answers: `history`, the time up
+// to which the plan is history (a replan's `now`): that part is drawn hatched and marked;
+// `diff`, the answer's diff against the previous plan: added and moved commands are marked, and
+// the previous plan's dropped and moved commands are drawn hollow at their old times;
+// `previousGoal`, the previous plan's goal time, drawn as a faint line. setNow(t) moves the "now"
+// line (null hides it); setPick(fn) makes a click or tap on a row (segment, command, or the
+// row's name, which then takes the keyboard focus) call fn(automaton, data, anchor) instead of
+// opening a card (null: cards again); anchor is {x, y} in the page.
 
 const SVG = "http://www.w3.org/2000/svg";
 
@@ -129,13 +138,29 @@ function lanes(items) {
   return Math.max(1, ends.length);
 }
 
-export function renderTimeline(container, t, sp, domain) {
+// The diff's marks: "added" or "moved" per new command ("automaton|from|to|time"), and the
+// previous plan's moved and dropped commands as ghosts at their old times.
+function diffMarks(diff) {
+  const marks = new Map();
+  const ghosts = [];
+  for (const kind of ["added", "moved"])
+    for (const d of diff?.[kind] || []) marks.set(`${d.automaton}|${d.from}|${d.to}|${d.time_after}`, { kind, before: d.time_before });
+  for (const kind of ["moved", "dropped"])
+    for (const d of diff?.[kind] || [])
+      if (d.command && typeof d.time_before === "number") ghosts.push({ ...d, kind, time: d.time_before });
+  return { marks, ghosts };
+}
+
+export function renderTimeline(container, t, sp, domain, opts = {}) {
   const names = Object.keys(t.timelines || {});
   const colour = colours(t, domain);
   let lastEnd = 0;
   for (const segs of Object.values(t.timelines || {})) for (const s of segs) lastEnd = Math.max(lastEnd, s.end);
   const goal = typeof t.goal_reached_at === "number" ? t.goal_reached_at : null;
-  const full = Math.max(1, goal ?? 0, lastEnd);
+  const history = typeof opts.history === "number" ? opts.history : null;
+  const prevGoal = typeof opts.previousGoal === "number" && opts.previousGoal !== goal ? opts.previousGoal : null;
+  const { marks: diffMark, ghosts } = diffMarks(opts.diff);
+  const full = Math.max(1, goal ?? 0, lastEnd, prevGoal ?? 0, ...ghosts.map((g) => g.time));
   const brackets = constraintBrackets(t, sp);
   const longForm = full >= 3600;
 
@@ -175,6 +200,13 @@ export function renderTimeline(container, t, sp, domain) {
   marks.innerHTML = '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#1d2330"/></svg>command</span>' +
     '<span class="legend-item"><svg width="16" height="12"><line x1="8" y1="0" x2="8" y2="12" stroke="#b3261e" stroke-width="2" stroke-dasharray="3 2"/></svg>goal</span>' +
     '<span class="legend-item"><svg width="22" height="12"><path d="M1 10 V4 H21 V10" fill="none" stroke="#3b4a6b" stroke-width="1.5"/></svg>constraint: bounds and achieved</span>';
+  if (history !== null || opts.executable)
+    marks.innerHTML += '<span class="legend-item"><svg width="16" height="12"><rect width="16" height="12" fill="#e9ebf0"/><path d="M0 12 L12 0 M4 12 L16 0 M-4 4 L4 -4 M12 16 L20 8" stroke="#5a6378" stroke-width="1.2"/></svg>executed</span>' +
+      '<span class="legend-item"><svg width="10" height="12"><line x1="5" y1="0" x2="5" y2="12" stroke="#1f5fbf" stroke-width="2"/></svg>now</span>';
+  if (ghosts.length || prevGoal !== null)
+    marks.innerHTML += '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#fff" stroke="#6b7386" stroke-width="1.2"/></svg>previous plan (moved or dropped)</span>' +
+      '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#1b6e3a"/></svg>new command</span>' +
+      '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#8a5300"/></svg>moved command</span>';
   legend.appendChild(marks);
   wrap.appendChild(legend);
 
@@ -200,6 +232,9 @@ export function renderTimeline(container, t, sp, domain) {
   let pinned = null;  // the element whose card was opened by a tap or click
   let svg = null;
   let geom = { labelW: 0, plotW: 1 };
+  let nowT = null;    // the moving "now" of an execution (setNow)
+  let pick = null;    // setPick's callback
+  let nowEls = null;  // the shading, line and label drawn by the last draw(), moved by setNow
 
   function showCard(lines, x, y) {
     card.replaceChildren();
@@ -222,7 +257,13 @@ export function renderTimeline(container, t, sp, domain) {
     }
     if (d.kind === "command")
       return [`${d.automaton}: ${d.command}`, `at ${clock(+d.time, longForm)} (${seconds(+d.time)})`,
-        `${d.from} → ${d.to}`, `event ${d.event}`];
+        `${d.from} → ${d.to}`, `event ${d.event}`,
+        d.diff === "added" ? "new in this plan" : d.diff === "moved" ? `moved from ${clock(+d.before, longForm)}` : ""].filter(Boolean);
+    if (d.kind === "ghost")
+      return [`${d.automaton}: ${d.command}`, d.diff === "dropped"
+        ? `dropped: the previous plan had it at ${clock(+d.time, longForm)}`
+        : `moved: ${clock(+d.time, longForm)} → ${clock(+d.after, longForm)}`, `${d.from} → ${d.to}`];
+    if (d.kind === "previous-goal") return ["the previous plan's goal", `at ${clock(prevGoal, longForm)} (${seconds(prevGoal)})`];
     if (d.kind === "bracket") {
       const b = brackets[+d.index];
       return [b.label, `${b.kind === "episode" ? "from" : "between"} ${clock(b.from, longForm)} and ${clock(b.to, longForm)}`,
@@ -232,11 +273,61 @@ export function renderTimeline(container, t, sp, domain) {
     return null;
   }
 
+  // A previous plan's command: a hollow diamond at its old time, its label struck through when it
+  // was dropped; a moved one is joined by a dashed line to where it went.
+  function ghostMark(it, ly, r, rowH, laneY) {
+    const g = it.tr;
+    const el = svgEl("g", { class: `ghost ghost-${g.kind}`, "data-kind": "ghost", "data-automaton": r.name,
+      "data-command": g.command, "data-time": g.time, "data-from": g.from, "data-to": g.to, "data-diff": g.kind });
+    if (g.kind === "moved") {
+      el.dataset.after = g.time_after;
+      const to = r.cmd.items.find((o) => !o.tr.ghost && o.tr.from === g.from && o.tr.to === g.to && o.tr.time === g.time_after);
+      if (to) el.appendChild(svgEl("path", { d: `M ${it.px} ${ly} L ${to.px} ${laneY(to)}`, class: "ghost-link" }));
+    }
+    el.appendChild(svgEl("path", { d: `M ${it.px} ${ly - 5} l 5 5 l -5 5 l -5 -5 z`, class: "ghost-mark" }));
+    if (g.kind === "dropped")
+      el.appendChild(svgEl("text", { x: it.left ? it.x0 + 2 : it.px + 7, y: ly + 4, class: "command-label ghost-label" }, g.command));
+    return el;
+  }
+
+  // The executed part (hatched, over the rows) and the "now" line with its label on the axis.
+  function drawNow(s, plot, gm) {
+    const end = nowT ?? history;
+    if (end === null) return null;
+    const shade = svgEl("rect", { x: gm.x(0), y: gm.top - 4, height: Math.max(0, gm.bandY - gm.top), class: "past",
+      fill: `url(#hatch-${uid})`, "pointer-events": "none" });
+    plot.appendChild(shade);
+    const line = svgEl("line", { y1: gm.top - 6, y2: gm.axisY - 2, class: nowT === null ? "now-line history-line" : "now-line" });
+    const bg = svgEl("rect", { y: gm.axisY, height: gm.font + 4, rx: 3, class: "now-label-bg" });
+    const label = svgEl("text", { y: gm.axisY + gm.font, class: "now-label" });
+    s.append(line, bg, label);
+    const els = { shade, line, bg, label, gm };
+    placeNow(els, end);
+    return els;
+  }
+
+  function placeNow(els, end) {
+    const { gm } = els;
+    const px = gm.x(end);
+    const inView = px >= gm.labelW - 1 && px <= gm.labelW + gm.plotW + 1;
+    els.shade.setAttribute("width", Math.max(0, px - gm.x(0)));
+    els.line.setAttribute("x1", px);
+    els.line.setAttribute("x2", px);
+    const text = nowT === null ? `replanned at ${clock(end, longForm)}` : `now ${clock(Math.floor(end), longForm)}`;
+    els.label.textContent = text;
+    const w = textWidth(text, gm.font, "600") + 8;
+    const lx = Math.max(gm.labelW, Math.min(px - w / 2, gm.width - w - 2));
+    els.bg.setAttribute("x", lx);
+    els.bg.setAttribute("width", w);
+    els.label.setAttribute("x", lx + 4);
+    for (const e of [els.line, els.bg, els.label]) e.setAttribute("visibility", inView ? "visible" : "hidden");
+  }
+
   function draw() {
     const width = Math.max(240, stage.clientWidth || container.clientWidth || 600);
     const small = width < 520;
     const font = small ? 10 : 11;
-    const hasCommands = (t.transitions || []).some((tr) => tr.command);
+    const hasCommands = (t.transitions || []).some((tr) => tr.command) || ghosts.length > 0;
     const labelW = Math.min(small ? 64 : 120, Math.max(36, textWidth(hasCommands ? "commands" : "", font - 1) + 10,
       ...names.map((n) => textWidth(n, font, "600") + 10)));
     const right = 8, top = 20, pad = 8;  // pad: inside the plot, so marks at its ends stay whole
@@ -249,10 +340,12 @@ export function renderTimeline(container, t, sp, domain) {
 
     // Command markers per automaton, their labels stacked in lanes so none overlap.
     const cmdRows = names.map((name) => {
-      const items = (t.transitions || []).filter((tr) => tr.automaton === name && tr.command)
+      const own = (t.transitions || []).filter((tr) => tr.automaton === name && tr.command);
+      // A moved command's ghost has no label of its own: its new marker has it.
+      const items = [...own, ...ghosts.filter((g) => g.automaton === name).map((g) => ({ ...g, ghost: true }))]
         .map((tr) => {
           const px = x(tr.time);
-          const w = textWidth(tr.command, font - 1) + 4;
+          const w = tr.ghost && tr.kind === "moved" ? 0 : textWidth(tr.command, font - 1) + 4;
           // The label goes right of its marker, or left of it where the plot ends.
           const left = px + 8 + w > labelW + plotW;
           return { tr, px, left, x0: left ? px - 8 - w : px - 5, x1: left ? px + 5 : px + 8 + w };
@@ -287,6 +380,11 @@ export function renderTimeline(container, t, sp, domain) {
     const clip = svgEl("clipPath", { id: `clip-${uid}` });
     clip.appendChild(svgEl("rect", { x: labelW, y: 0, width: plotW, height }));
     defs.appendChild(clip);
+    const hatch = svgEl("pattern", { id: `hatch-${uid}`, width: 6, height: 6, patternUnits: "userSpaceOnUse",
+      patternTransform: "rotate(45)" });
+    hatch.appendChild(svgEl("rect", { width: 6, height: 6, class: "past-wash" }));
+    hatch.appendChild(svgEl("line", { x1: 0, y1: 0, x2: 0, y2: 6, class: "past-hatch" }));
+    defs.appendChild(hatch);
     s.appendChild(defs);
 
     // Gridlines and ticks.
@@ -305,7 +403,14 @@ export function renderTimeline(container, t, sp, domain) {
 
     const plot = svgEl("g", { "clip-path": `url(#clip-${uid})` });
     for (const r of layout) {
-      s.appendChild(svgEl("text", { x: 4, y: r.y + rowH / 2 + 4, class: "rowlabel" }, r.name));
+      const label = svgEl("text", { x: 4, y: r.y + rowH / 2 + 4, class: "rowlabel" }, r.name);
+      if (pick) {
+        // In execution, a row's name is a button (keyboard users reach the row through it).
+        const g = svgEl("g", { class: "rowpick", tabindex: "0", role: "button", "data-kind": "row",
+          "data-automaton": r.name, "aria-label": `${r.name}: report what went wrong` });
+        g.append(svgEl("rect", { x: 1, y: r.y + 1, width: labelW - 3, height: rowH - 2, rx: 3, class: "rowpick-box" }), label);
+        s.appendChild(g);
+      } else s.appendChild(label);
       if (r.cmd.height) s.appendChild(svgEl("text", { x: 4, y: r.cmdY + 12, class: "cmdlabel" }, "commands"));
       for (const seg of t.timelines[r.name]) {
         const x0 = x(seg.start), x1 = x(seg.end);
@@ -322,11 +427,18 @@ export function renderTimeline(container, t, sp, domain) {
           plot.appendChild(svgEl("text", { x: vx0 + 4, y: r.y + rowH / 2 + 4, class: "seglabel",
             fill: textOn(fill), "pointer-events": "none" }, seg.location));
       }
+      const laneY = (it) => r.cmdY + 6 + it.lane * (font + 4);
       for (const it of r.cmd.items) {
-        const ly = r.cmdY + 6 + it.lane * (font + 4);
-        const g = svgEl("g", { class: "command", "data-kind": "command", "data-automaton": r.name,
+        const ly = laneY(it);
+        if (it.tr.ghost) {
+          plot.appendChild(ghostMark(it, ly, r, rowH, laneY));
+          continue;
+        }
+        const mark = diffMark.get(`${r.name}|${it.tr.from}|${it.tr.to}|${it.tr.time}`);
+        const g = svgEl("g", { class: `command${mark ? ` diff-${mark.kind}` : ""}`, "data-kind": "command", "data-automaton": r.name,
           "data-command": it.tr.command, "data-time": it.tr.time, "data-from": it.tr.from,
           "data-to": it.tr.to, "data-event": it.tr.event });
+        if (mark) { g.dataset.diff = mark.kind; if (mark.before !== undefined) g.dataset.before = mark.before; }
         g.appendChild(svgEl("line", { x1: it.px, x2: it.px, y1: r.y + rowH, y2: ly, class: "command-stem" }));
         g.appendChild(svgEl("path", { d: `M ${it.px} ${ly - 5} l 5 5 l -5 5 l -5 -5 z`, class: "command-mark" }));
         g.appendChild(svgEl("text", { x: it.left ? it.x0 + 2 : it.px + 7, y: ly + 4, class: "command-label" }, it.tr.command));
@@ -357,9 +469,28 @@ export function renderTimeline(container, t, sp, domain) {
         class: "goal-label" }, label));
       s.appendChild(g);
     }
-    s.insertBefore(plot, s.querySelector(".bracket, .goal"));
+    // The previous plan's goal, faint, labelled unless the goal's label is in the way.
+    if (prevGoal !== null && x(prevGoal) >= labelW - 1 && x(prevGoal) <= labelW + plotW + 1) {
+      const px = x(prevGoal);
+      const g = svgEl("g", { class: "previous-goal", "data-kind": "previous-goal" });
+      g.appendChild(svgEl("line", { x1: px, x2: px, y1: top - 6, y2: axisY - 2, class: "previous-goal-line" }));
+      g.appendChild(svgEl("rect", { x: px - 5, y: top - 6, width: 10, height: axisY - top, class: "hit" }));
+      const label = `was ${clock(prevGoal, longForm)}`;
+      const lw = textWidth(label, font) + 4;
+      const left = goal === null || prevGoal < goal;
+      const lx = left ? px - lw - 2 : px + 3;
+      const goalHalf = goal === null ? 0 : textWidth(`goal ${clock(goal, longForm)}`, font, "600") / 2 + 4;
+      const clash = goal !== null && (left ? lx + lw > x(goal) - goalHalf : lx < x(goal) + goalHalf);
+      if (!clash && lx >= labelW && lx + lw <= width)
+        g.appendChild(svgEl("text", { x: lx, y: top - 8, class: "previous-goal-label" }, label));
+      s.appendChild(g);
+    }
+    s.insertBefore(plot, s.querySelector(".bracket, .goal, .previous-goal"));
+    nowEls = drawNow(s, plot, { x, labelW, plotW, width, top, bandY, axisY, font });
+    const focused = svg?.querySelector(".rowpick:focus")?.dataset.automaton;
     if (svg) svg.replaceWith(s); else stage.insertBefore(s, card);
     svg = s;
+    if (focused) svg.querySelector(`.rowpick[data-automaton="${CSS.escape(focused)}"]`)?.focus();
     const round = (v) => (v1 - v0 >= 10 ? Math.round(v) : v);
     range.textContent = v0 === 0 && v1 === full ? `0:00 – ${clock(full, longForm)}`
       : `${clock(round(v0), longForm)} – ${clock(round(v1), longForm)} of ${clock(full, longForm)}`;
@@ -383,6 +514,13 @@ export function renderTimeline(container, t, sp, domain) {
   zoomOut.addEventListener("click", () => zoom(2));
   fit.addEventListener("click", () => { view = [0, full]; hideCard(); draw(); });
   stage.addEventListener("keydown", (e) => {
+    const row = e.target.closest?.(".rowpick");
+    if (row && pick && (e.key === "Enter" || e.key === " ")) {
+      e.preventDefault();
+      const box = row.getBoundingClientRect();
+      pick(row.dataset.automaton, { ...row.dataset }, { x: box.right, y: box.bottom });
+      return;
+    }
     const span = view[1] - view[0];
     if (e.key === "ArrowLeft") pan(-span / 5);
     else if (e.key === "ArrowRight") pan(span / 5);
@@ -429,6 +567,14 @@ export function renderTimeline(container, t, sp, domain) {
     const moved = drag?.moved;
     drag = null;
     if (moved) return;
+    if (pick) {
+      const row = e.target.closest?.("[data-automaton]");
+      if (row && row.dataset.kind !== "ghost") {
+        hideCard();
+        pick(row.dataset.automaton, { ...row.dataset }, { x: e.clientX, y: e.clientY });
+        return;
+      }
+    }
     const node = e.target.closest?.("[data-kind]");
     const lines = node && cardFor(node);
     const box = stage.getBoundingClientRect();
@@ -444,5 +590,19 @@ export function renderTimeline(container, t, sp, domain) {
   new ResizeObserver(() => {
     if (stage.clientWidth !== lastWidth) { lastWidth = stage.clientWidth; draw(); }
   }).observe(stage);
-  return { wrap, legend, table, redraw: draw };
+  return {
+    wrap, legend, table, stage, redraw: draw,
+    setNow(time) {
+      const was = nowT;
+      nowT = time;
+      if (nowEls && time !== null && was !== null) placeNow(nowEls, time);
+      else draw();
+    },
+    setPick(fn) {
+      if (!!fn === !!pick) { pick = fn; return; }
+      pick = fn;
+      hideCard();
+      draw();
+    },
+  };
 }

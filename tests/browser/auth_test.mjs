@@ -2,36 +2,17 @@
 // when /info answers 401, a wrong key is refused and asked again, the right one loads the domains
 // and solves, and the key lives in sessionStorage only (this tab), never in localStorage.
 //   node auth_test.mjs CTBURTON_BINARY SOURCE_DIR OUTPUT_DIR
-import { spawn } from "node:child_process";
-import { mkdirSync, openSync, writeFileSync } from "node:fs";
-import net from "node:net";
-import { chromium } from "playwright-core";
+import { writeFileSync } from "node:fs";
+import { check, finish, launchBrowser, sleep, startServer } from "./harness.mjs";
 
 const [bin, src, out] = process.argv.slice(2);
-mkdirSync(out, { recursive: true });
-let passed = 0, failed = 0;
-const check = (name, ok, detail = "") => {
-  if (ok) { passed++; console.log(`ok   ${name}`); } else { failed++; console.log(`FAIL ${name} ${detail}`); }
-};
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const port = await new Promise((resolve) => {
-  const s = net.createServer();
-  s.listen(0, "127.0.0.1", () => { const p = s.address().port; s.close(() => resolve(p)); });
-});
 const key = "browser-key-0123456789abcdef";
 const keyFile = `/tmp/ctb-browser-keys-${process.pid}`;
 writeFileSync(keyFile, `${key}\n`);
-const env = { ...process.env, CTB_CONFIG_DIR: `${src}/config`, CTB_PROMPTS_DIR: `${src}/prompts` };
-for (const k of ["CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_API_KEY"]) delete env[k];
-const server = spawn(bin, ["serve", "--port", String(port), "--demo", "--api-keys", keyFile,
-  "--data-dir", `/tmp/ctb-browser-auth-${process.pid}`],
-  { cwd: src, env, stdio: ["ignore", "ignore", openSync(`${out}/auth-server.log`, "w")] });
-const base = `http://127.0.0.1:${port}`;
-for (let i = 0; i < 200; i++) {
-  try { if ((await fetch(`${base}/healthz`)).ok) break; } catch {}
-  await sleep(50);
-}
-const browser = await chromium.launch({ executablePath: "/usr/bin/chromium", args: ["--no-sandbox"] });
+const { server, base } = await startServer(bin, src, out, {
+  args: ["--demo", "--api-keys", keyFile, "--data-dir", `/tmp/ctb-browser-auth-${process.pid}`],
+  log: "auth-server.log" });
+const browser = await launchBrowser();
 try {
   const page = await browser.newPage({ viewport: { width: 1000, height: 800 } });
   await page.goto(base);
@@ -64,5 +45,4 @@ try {
   await browser.close();
   server.kill("SIGTERM");
 }
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed ? 1 : 0);
+finish();

@@ -3,6 +3,7 @@ tests/grpc/python_client_test.sh: each check raises on a wrong answer."""
 import json
 import sys
 import time
+import urllib.request
 
 import grpc
 from google.protobuf import json_format
@@ -11,6 +12,7 @@ from ctburton.v1 import planner_pb2, planner_pb2_grpc
 from google.rpc import error_details_pb2, status_pb2
 
 target, src = sys.argv[1], sys.argv[2]
+http = sys.argv[3] if len(sys.argv) > 3 else None  # the same server's HTTP front end
 channel = grpc.insecure_channel(target)
 grpc.channel_ready_future(channel).result(timeout=20)
 planner = planner_pb2_grpc.PlannerStub(channel)
@@ -80,3 +82,44 @@ check(final.status in (planner_pb2.SOLVED_OPTIMALLY, planner_pb2.SOLVED_SATISFIC
       f"PlanAnytime plans from words in {time.time() - t0:.1f} s (session {final.session[:8]}...)")
 session = planner.GetSession(planner_pb2.GetSessionRequest(session=final.session), timeout=10)
 check(len(session.turns.values) == 1, "the session holds the turn")
+
+# Replanning (contract section 11): robot 1 stands at door 1 at t = 1 and cannot open it; robot 2
+# comes to open it, and the goal moves from 11 to 12. The same request to POST /replan gives the
+# same plan.
+with open(f"{src}/config/examples/search_rescue/test2.json") as f:
+    rescue = json.load(f)
+plan = planner.Solve(planner_pb2.SolveRequest(
+    domain="search_rescue", state_plan=state_plan("config/examples/search_rescue/test2.json"),
+    options=planner_pb2.Options(objective="makespan", time_limit_ms=30000)), timeout=60)
+body = {
+    "domain": "search_rescue", "state_plan": rescue, "now": 1,
+    "trajectory": {"events": list(plan.trajectory.events),
+                   "transitions": [{"time": t.time, "automaton": t.automaton,
+                                    "from": getattr(t, "from"), "to": t.to}
+                                   for t in plan.trajectory.transitions]},
+    "executed": [{"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor1"},
+                 {"time": 1, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}],
+    "blocked": [{"automaton": "robot1", "from": "atDoor1", "to": "door1Opening"}],
+    "options": {"objective": "cost_then_makespan", "time_limit_ms": 30000},  # one optimal future
+}
+replanned = planner.Replan(json_format.ParseDict(body, planner_pb2.ReplanRequest()), timeout=60)
+future = [(t.automaton, getattr(t, "from"), t.to) for t in replanned.trajectory.transitions
+          if not t.executed]
+check(replanned.status == planner_pb2.SOLVED_OPTIMALLY and replanned.trajectory.verified and
+      replanned.trajectory.goal_reached_at == 12 and
+      ("robot2", "atDoor1", "door1Opening") in future and
+      ("robot1", "atDoor1", "door1Opening") not in future,
+      "Replan: robot 2 comes to open door 1, goal at 12 s")
+check(any(d.automaton == "robot1" and d.command == "openDoor1" for d in replanned.diff.dropped),
+      "Replan's diff drops robot 1's openDoor1")
+if http:
+    request = urllib.request.Request(f"{http}/replan", json.dumps(body).encode(),
+                                     {"Content-Type": "application/json"})
+    with urllib.request.urlopen(request, timeout=60) as r:
+        answer = json.load(r)
+    as_http = [(t["automaton"], t["from"], t["to"], t["time"], t.get("executed", False))
+               for t in answer["transitions"]]
+    as_grpc = [(t.automaton, getattr(t, "from"), t.to, t.time, t.executed)
+               for t in replanned.trajectory.transitions]
+    check(as_http == as_grpc and answer["goal_reached_at"] == replanned.trajectory.goal_reached_at,
+          "POST /replan gives the same plan as gRPC Replan")

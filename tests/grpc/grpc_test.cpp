@@ -76,9 +76,9 @@ pb::SolveRequest SolveOf(const std::string& domain, const std::string& plan_file
   return q;
 }
 
-// The assembly test prompt, fastest, up to 64 events: its proof runs to the time limit.
+// Assembly, C onto A from a tower, fastest, up to 64 events: its proof runs to the time limit.
 pb::SolveRequest LongSolve() {
-  return SolveOf("assembly", "config/examples/assembly/test.json", "makespan", 60000, 64);
+  return SolveOf("assembly", "tests/data/slow_c_on_a.json", "makespan", 60000, 64);
 }
 
 // Waits up to `ms` for the server to have no solver child; true when it has none.
@@ -477,6 +477,91 @@ TEST(Grpc, HttpAndGrpcGiveTheSameAnswer) {
               static_cast<int>(h.value("explanation", json::object()).value("conflicts", json::array()).size()));
     EXPECT_EQ(g.state_plan_summary_size(), static_cast<int>(h["state_plan_summary"].size()));
   }
+}
+
+// Replanning (contract section 11) over both front ends: one request, the same answer. Robot 1
+// stands at door 1 at t = 1 and cannot open it; by hand robot 2 comes to open it and the goal
+// moves from 11 to 12 (tests/planner/replan_test.cpp, Robot2ComesToOpenDoor1). The objective is
+// cost, then makespan: that future is the only one (with makespan alone an idle robot's extra
+// moves could differ between two solves, and the portfolio's strategies race).
+TEST(Grpc, ReplanGivesTheSameAnswerAsHttp) {
+  GrpcServer s;
+  const json sp = ReadJson("config/examples/search_rescue/test2.json");
+  json solve = {{"domain", "search_rescue"}, {"state_plan", sp},
+                {"options", {{"objective", "makespan"}, {"time_limit_ms", 30000}}}};
+  auto planned = s.proc.Client().Post("/solve", solve.dump(), "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const json plan = json::parse(planned->body);
+  ASSERT_EQ(plan["goal_reached_at"], 11);
+  json body = {
+      {"domain", "search_rescue"}, {"state_plan", sp},
+      {"trajectory", {{"events", plan["events"]}, {"transitions", plan["transitions"]}}},
+      {"now", 1},
+      {"executed", json::parse(R"([
+          {"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor1"},
+          {"time": 1, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}])")},
+      {"blocked", json::parse(R"([{"automaton": "robot1", "from": "atDoor1", "to": "door1Opening"}])")},
+      {"options", {{"objective", "cost_then_makespan"}, {"time_limit_ms", 30000}}}};
+  auto http = s.proc.Client().Post("/replan", body.dump(), "application/json");
+  ASSERT_TRUE(http);
+  ASSERT_EQ(http->status, 200) << http->body;
+  const json h = json::parse(http->body);
+  ASSERT_EQ(h["status"], "optimal") << http->body;
+  EXPECT_EQ(h["goal_reached_at"], 12);
+
+  grpc::ClientContext c;
+  Deadline(c, 60000);
+  pb::PlanResult g;
+  auto st = s.stub->Replan(&c, FromJson<pb::ReplanRequest>(body), &g);
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  EXPECT_EQ(g.status(), pb::SOLVED_OPTIMALLY);
+  EXPECT_EQ(g.trajectory().status(), h["status"]);
+  EXPECT_EQ(g.trajectory().verified(), h["verified"].get<bool>());
+  EXPECT_EQ(g.trajectory().goal_reached_at(), h["goal_reached_at"].get<double>());
+  ASSERT_TRUE(g.objective().has_struct_value());
+  EXPECT_EQ(g.objective().struct_value().fields().at("cost").number_value(), h["objective"]["value"]["cost"].get<double>());
+  EXPECT_EQ(g.objective().struct_value().fields().at("makespan").number_value(), 12);
+  EXPECT_EQ(g.trajectory().now(), 1);
+  ASSERT_EQ(g.trajectory().transitions_size(), static_cast<int>(h["transitions"].size()));
+  for (int i = 0; i < g.trajectory().transitions_size(); ++i) {
+    const auto& gt = g.trajectory().transitions(i);
+    const auto& ht = h["transitions"][i];
+    EXPECT_EQ(gt.automaton(), ht["automaton"]) << i;
+    EXPECT_EQ(gt.from(), ht["from"]) << i;
+    EXPECT_EQ(gt.to(), ht["to"]) << i;
+    EXPECT_EQ(gt.time(), ht["time"].get<double>()) << i;
+    EXPECT_EQ(gt.executed(), ht.value("executed", false)) << i;
+  }
+  // The diff, item by item.
+  const auto same = [](const auto& items, const json& hs, const char* kind) {
+    ASSERT_EQ(items.size(), static_cast<int>(hs.size())) << kind;
+    for (int i = 0; i < items.size(); ++i) {
+      EXPECT_EQ(items[i].automaton(), hs[i]["automaton"]) << kind << i;
+      EXPECT_EQ(items[i].from(), hs[i]["from"]) << kind << i;
+      EXPECT_EQ(items[i].to(), hs[i]["to"]) << kind << i;
+      EXPECT_EQ(items[i].has_time_before(), hs[i].contains("time_before")) << kind << i;
+      EXPECT_EQ(items[i].has_time_after(), hs[i].contains("time_after")) << kind << i;
+    }
+  };
+  same(g.diff().kept(), h["diff"]["kept"], "kept");
+  same(g.diff().moved(), h["diff"]["moved"], "moved");
+  same(g.diff().added(), h["diff"]["added"], "added");
+  same(g.diff().dropped(), h["diff"]["dropped"], "dropped");
+  EXPECT_FALSE(h["diff"]["dropped"].empty());
+  EXPECT_EQ(g.state_plan_summary_size(), static_cast<int>(h["state_plan_summary"].size()));
+
+  // A bad history is the same located error on both: robot 1 has no move from goingToDoor1 to
+  // atDoor3, so /executed/1/to (HTTP 400, gRPC INVALID_ARGUMENT).
+  body["executed"][1]["to"] = "atDoor3";
+  auto bad = s.proc.Client().Post("/replan", body.dump(), "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_EQ(json::parse(bad->body)["error"]["path"], "/executed/1/to") << bad->body;
+  grpc::ClientContext c2;
+  auto st2 = s.stub->Replan(&c2, FromJson<pb::ReplanRequest>(body), &g);
+  EXPECT_EQ(st2.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(st2.error_message().find("/executed/1/to"), std::string::npos) << st2.error_message();
 }
 
 }  // namespace

@@ -17,5 +17,5 @@ CTB_DATA_DIR="$data" "$BIN" serve --port "$port" --grpc-port "$gport" --demo \
   --config-dir "$SRC/config" >"$data/log" 2>&1 &
 pid=$!
 trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$data"' EXIT
-PYTHONPATH="$OUT" $PY "$SRC/tests/grpc/client.py" "127.0.0.1:$gport" "$SRC"
+PYTHONPATH="$OUT" $PY "$SRC/tests/grpc/client.py" "127.0.0.1:$gport" "$SRC" "http://127.0.0.1:$port"
 PYTHONPATH="$OUT" $PY "$SRC/tests/grpc/schema_agreement.py" "$SRC/server/openapi.json"

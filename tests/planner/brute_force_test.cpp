@@ -13,9 +13,11 @@
 
 #include "planner/analyze/analyze.h"
 #include "planner/analyze/earliest.h"
+#include "planner/analyze/workload.h"
 #include "planner/solve/bounds.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
+#include "random_helpers.h"
 #include "random_problem.h"
 #include "test_util.h"
 
@@ -49,16 +51,17 @@ Json Value(Objective o, const Best& b) {
 
 class Enumerator {
  public:
-  Enumerator(const Domain& d, const StatePlan& sp, long time_bound)
-      : d_(d), sp_(sp), tb_(time_bound), na_(static_cast<int>(d.automata.size())),
+  Enumerator(const Domain& d, const StatePlan& sp, long time_bound, int max_events = kMaxEvents)
+      : d_(d), sp_(sp), tb_(time_bound), max_events_(max_events),
+        na_(static_cast<int>(d.automata.size())),
         bounds_(LowerBounds(d, sp)), earliest_(ComputeEarliestTimes(d, sp)),
         events_(ComputeEarliestTimes(d, sp, Measure::kEvents)) {}
 
   std::optional<Best> Run() {
-    for (int g = 0; g <= kMaxEvents; ++g) {
+    for (int g = 0; g <= max_events_; ++g) {
       Trajectory t;
       t.goal_event = g;
-      t.horizon = kMaxEvents;
+      t.horizon = max_events_;
       t.events.assign(g + 1, 0);
       t.locations.assign(na_, std::vector<int>(g + 1, 0));
       t.commands.assign(na_, std::vector<int>(g + 1, 0));
@@ -185,6 +188,7 @@ class Enumerator {
   const Domain& d_;
   const StatePlan& sp_;
   long tb_;
+  int max_events_;
   int na_;
   ObjectiveBounds bounds_;
   std::optional<EarliestTimes> earliest_, events_;
@@ -308,6 +312,106 @@ TEST(BruteForce, NearMissesProvenStaticallyHaveNoPlan) {
   for (const auto& [k, n] : kinds) std::cout << k << ": " << n << "\n";
   EXPECT_GE(checked, 8);
   EXPECT_GE(kinds["time_network"] + kinds["deadline"], 2);
+}
+
+// The workload bound (analyze/workload.h) on random problems of the assembly kind, where it
+// bites. Tiny ones (one helper, one item, one step picks): every plan the enumeration finds with
+// at most 4 events (a move and the way home) obeys every bound. Larger ones (up to 2 helpers, 2 items, 3 positions): the bound never
+// exceeds the exact optimum (Gecode alone, told no bound, every plan with at most 10 events), for
+// cost and for makespan, and no plan has fewer events than the event bound (the model one event
+// short of it has no plan).
+TEST(BruteForce, WorkloadBoundHoldsOnTinyHelperProblems) {
+  testing::HelperShape shape;
+  shape.max_helpers = 1;
+  shape.max_items = 1;
+  shape.max_positions = 2;
+  shape.max_duration = 1;
+  shape.direct = 1.0;
+  int feasible = 0, bitten = 0;
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    testing::HelperProblemGenerator gen(seed, shape);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    long max_lo = 0;
+    for (const auto& a : d->automata)
+      for (const auto& t : a.transitions) max_lo = std::max(max_lo, static_cast<long>(t.duration.lo));
+    Enumerator en(*d, *sp, 4 * max_lo + 1, 4);
+    std::optional<Best> truth = en.Run();
+    EXPECT_TRUE(en.bound_violations().empty())
+        << "seed " << seed << ": " << en.bound_violations().front() << "\n" << p.Describe();
+    if (!truth) continue;
+    ++feasible;
+    const Workload w = ComputeWorkload(*d, *sp, nullptr, nullptr);
+    bitten += w.makespan_ticks > 0;
+  }
+  std::cout << feasible << " feasible, the workload bound positive on " << bitten << "\n";
+  EXPECT_GE(feasible, 6);
+  EXPECT_GE(bitten, 6);
+}
+
+TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
+  int compared = 0, bites = 0, tight = 0;
+  for (unsigned seed = 100; seed < 124; ++seed) {
+    testing::HelperProblemGenerator gen(seed);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    const ObjectiveBounds b = LowerBounds(*d, *sp);
+    const auto ticks = ComputeEarliestTimes(*d, *sp);
+    const auto events = ComputeEarliestTimes(*d, *sp, Measure::kEvents);
+    const Workload w = ComputeWorkload(*d, *sp, ticks ? &*ticks : nullptr, events ? &*events : nullptr);
+    bool feasible = false;
+    for (Objective objective : {Objective::kCost, Objective::kMakespan}) {
+      SolveOptions o;
+      o.max_horizon = 10;
+      o.time_limit_ms = 120000;
+      o.search = "g_first";
+      o.first_plan_ms = 0;
+      o.bounds = ObjectiveBounds{};  // the exact engine alone: no bound to stop at or constrain
+      o.objective = objective;
+      auto r = Solve(*d, *sp, o);
+      ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
+      const Json& answer = std::get<Json>(r);
+      ASSERT_TRUE(answer["status"] == "optimal" || answer["status"] == "infeasible")
+          << "seed " << seed << ": undecided " << answer["status"] << "\n" << p.Describe();
+      if (answer["status"] != "optimal") continue;
+      feasible = true;
+      const long value = answer["objective"]["value"].get<long>();
+      const long bound = objective == Objective::kCost ? b.cost : b.makespan_ticks;
+      EXPECT_LE(bound, value) << "seed " << seed << (objective == Objective::kCost ? " cost" : " makespan")
+                              << "\n" << p.Describe();
+      const long work = objective == Objective::kCost ? 0 : w.makespan_ticks;
+      bites += work > 0 && work == bound;
+      tight += bound == value;
+    }
+    if (!feasible) continue;
+    ++compared;
+    if (b.events > 1) {
+      SolveOptions o;
+      o.horizon = static_cast<int>(b.events) - 1;
+      o.time_limit_ms = 120000;
+      o.search = "g_first";
+      o.first_plan_ms = 0;
+      o.bounds = ObjectiveBounds{};
+      o.objective = Objective::kMakespan;
+      auto r = Solve(*d, *sp, o);
+      ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
+      EXPECT_EQ(std::get<Json>(r)["status"], "infeasible")
+          << "seed " << seed << ": a plan with " << o.horizon.value() << " events, event bound "
+          << b.events << "\n" << p.Describe();
+    }
+  }
+  std::cout << compared << " compared, workload bound decisive " << bites << " times, tight " << tight
+            << " times\n";
+  EXPECT_GE(compared, 12);
+  EXPECT_GE(bites, 6);
 }
 
 }  // namespace

@@ -1,12 +1,17 @@
 // Lower bounds that hold for every plan (issue 9): earliest times (analyze/earliest.h), the
-// delete relaxation (analyze/relaxed_cost.h) and guard landmarks (solve/bounds.h). Soundness on
-// random problems is checked against every plan the brute-force enumeration finds.
+// delete relaxation (analyze/relaxed_cost.h), guard landmarks (solve/bounds.h) and the work only
+// helpers can do (analyze/workload.h, issue 18). Soundness on random problems is checked against
+// every plan the brute-force enumeration finds and against exact optima (brute_force_test.cpp).
 #include "planner/analyze/earliest.h"
 
 #include <gtest/gtest.h>
 
+#include <variant>
+
 #include "planner/analyze/relaxed_cost.h"
+#include "planner/analyze/workload.h"
 #include "planner/solve/bounds.h"
+#include "planner/solve/solve.h"
 #include "test_util.h"
 
 namespace ctb {
@@ -148,6 +153,100 @@ TEST(RelaxedCost, NoRelaxedPlanNoBound) {
   sp.goal.expr = Expr{};
   sp.goal.expr.op = Expr::Op::kFalse;
   EXPECT_FALSE(RelaxedCostBound(d, sp));
+}
+
+// Assembly, "A to the floor, then B on A" (issue 18): B can be picked only once A has left it
+// (a negated guard: blockA != onB), so arm picking B enters pickingB no earlier than 1 s and
+// placingBonA no earlier than 2 s; the arm that places B must then get home (2 s): 4 s, the
+// optimum (the graph bound said 1).
+TEST(Earliest, AssemblyWaitsForTheBlockAboveAndTheArmsReturn) {
+  const Domain& d = testing::ShippedDomain("assembly");
+  StatePlan sp = Example("assembly", "test.json");
+  auto e = ComputeEarliestTimes(d, sp);
+  ASSERT_TRUE(e);
+  const int arm2 = Automaton(d, "arm2");
+  EXPECT_EQ(e->arrival[arm2][Loc(d, "arm2", "pickingB")], Ticks(d, 1));
+  EXPECT_EQ(e->arrival[arm2][Loc(d, "arm2", "placingBonA")], Ticks(d, 2));
+  EXPECT_EQ(e->goal, Ticks(d, 4));
+  EXPECT_EQ(LowerBounds(d, sp).makespan_ticks, Ticks(d, 4));
+}
+
+Json TowerReverse() {
+  return testing::MustParse(R"({
+    "initial_state": {"arm1": "home", "arm2": "home", "blockA": "onB", "blockB": "onC",
+                      "blockC": "onFloor"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint":
+      "arm1[i+1]==home /\\ arm2[i+1]==home /\\ blockA[i+1]==onFloor /\\ blockB[i+1]==onA /\\ blockC[i+1]==onB"},
+    "objective": "makespan"})");
+}
+
+// Reversing a 3-block tower: each block needs a pick (1 s) and a place (2 s) by one arm, so
+// three runs of 3 s on two arms: one arm does two, 6 s (the optimum; the precedences alone give
+// 5 s). In events: per run the arm's way into holding, out of it and out of placing (3); in
+// cost, the same three transitions per run.
+TEST(Workload, ReversingATowerNeedsTwoRunsOnOneArm) {
+  const Domain& d = testing::ShippedDomain("assembly");
+  StatePlan sp = Plan("assembly", TowerReverse());
+  auto e = ComputeEarliestTimes(d, sp);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->goal, Ticks(d, 5));
+  const Workload w = ComputeWorkload(d, sp, nullptr, nullptr);
+  EXPECT_EQ(w.makespan_ticks, Ticks(d, 6));
+  EXPECT_EQ(w.events, 6);
+  EXPECT_EQ(w.helper_cost, 9);
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    EXPECT_EQ(w.helper[a], d.automata[a].name.rfind("arm", 0) == 0) << d.automata[a].name;
+  const ObjectiveBounds b = LowerBounds(d, sp);
+  EXPECT_EQ(b.makespan_ticks, Ticks(d, 6));
+  // Blocks: 2 transitions each (6); arms: the larger of their own ways (0) and the work (9).
+  EXPECT_GE(b.cost, 15);
+  EXPECT_GE(b.events, 6);
+}
+
+// Releases: with A moved first, B's run cannot start before 1 s (A must have left it): the runs
+// after 1 s are B's alone, 1 + 3 = 4 s, without the arms' return rule.
+TEST(Workload, ReleasesSeeTheBlockAbove) {
+  const Domain& d = testing::ShippedDomain("assembly");
+  StatePlan sp = Example("assembly", "test.json");
+  auto e = ComputeEarliestTimes(d, sp);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(ComputeWorkload(d, sp, &*e, nullptr).makespan_ticks, Ticks(d, 4));
+  EXPECT_EQ(ComputeWorkload(d, sp, nullptr, nullptr).makespan_ticks, Ticks(d, 3));
+}
+
+// One visit of the helper may carry the item twice (both of its transitions need the helper in
+// `hold`): only the last is charged, so the bound is the true optimum, 2 s (home 1 s, hold 1 s),
+// not 4 s. And a goal that reads a change gets no workload bound.
+TEST(Workload, OneVisitCarryingTwoStepsIsChargedOnce) {
+  Diagnostics diags;
+  auto d = LoadDomain(testing::MustParse(R"({"name": "carry", "description": "", "automata": [
+    {"name": "h", "locations": ["home", "hold"], "commands": ["go"], "transitions": [
+      {"from": "home", "to": "hold", "guard": "hu[i]==go", "duration": [1, null]},
+      {"from": "hold", "to": "home", "duration": [1, 1]}]},
+    {"name": "x", "locations": ["p0", "p1", "p2"], "commands": [], "transitions": [
+      {"from": "p0", "to": "p1", "guard": "hl[i]==hold"},
+      {"from": "p1", "to": "p2", "guard": "hl[i]==hold"}]}]})"), diags);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  auto sp = LoadStatePlan(testing::MustParse(R"({"initial_state": {"h": "home", "x": "p0"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "hl[i+1]==home /\\ xl[i+1]==p2"},
+    "objective": "makespan"})"), *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  const Workload w = ComputeWorkload(*d, *sp, nullptr, nullptr);
+  EXPECT_EQ(w.makespan_ticks, 2);
+  EXPECT_EQ(LowerBounds(*d, *sp).makespan_ticks, 2);
+  SolveOptions o;
+  o.first_plan_ms = 0;
+  o.bounds = ObjectiveBounds{};
+  o.search = "g_first";
+  o.max_horizon = 6;
+  auto r = Solve(*d, *sp, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(r));
+  EXPECT_EQ(std::get<Json>(r)["objective"]["value"], 2);
+  auto change = LoadStatePlan(testing::MustParse(R"({"initial_state": {"h": "home", "x": "p0"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "xl[i]==p1 /\\ xl[i+1]==p2"},
+    "objective": "makespan"})"), *d, diags);
+  ASSERT_TRUE(change) << testing::AllErrors(diags);
+  EXPECT_EQ(ComputeWorkload(*d, *change, nullptr, nullptr).makespan_ticks, 0);
 }
 
 }  // namespace

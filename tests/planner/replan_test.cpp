@@ -270,6 +270,36 @@ TEST(ReplanErrors, LocatedByPointers) {
   bad(Json::parse(R"({"now": 1, "executed": [], "options": {"keep": "all"}})"), "/options/keep");
 }
 
+// The diff's baseline is the previous plan from now on, less what the history lists at exactly
+// now: the plan's transitions at 0 (or at 1) reported executed at now = 0 (or 1), as the page
+// and `ctburton execute` send them, are history, not dropped moves; with nothing departing the
+// future keeps the optimum.
+TEST(ReplanDiff, ATransitionAtNowThatTheHistoryListsIsNotDropped) {
+  Problem p = Load("search_rescue", "search_rescue/test2.json");
+  Json plan = MustSolve(p, Objective::kMakespan);
+  for (const double now : {0.0, 1.0}) {
+    SCOPED_TRACE("now = " + std::to_string(now));
+    Json executed = Json::array();
+    for (const auto& t : plan["transitions"])
+      if (t["time"].get<double>() <= now)
+        executed.push_back({{"time", t["time"]}, {"automaton", t["automaton"]}, {"from", t["from"]}, {"to", t["to"]}});
+    ASSERT_FALSE(executed.empty());
+    Json re = MustReplan(p, {{"now", now}, {"executed", executed}, {"trajectory", plan}}, Objective::kMakespan);
+    ASSERT_EQ(re["status"], "optimal") << re.dump();
+    EXPECT_EQ(re["objective"]["value"], 11);
+    int at_now = 0;
+    for (const auto& e : executed) {
+      if (e["time"].get<double>() != now) continue;
+      ++at_now;
+      for (const auto& d : re["diff"]["dropped"])
+        EXPECT_FALSE(d["automaton"] == e["automaton"] && d["from"] == e["from"] && d["to"] == e["to"] &&
+                     d["time_before"] == e["time"])
+            << "dropped although executed: " << d.dump();
+    }
+    EXPECT_GT(at_now, 0);
+  }
+}
+
 // keep "min_change": among the optimal futures, the one closest to the previous plan. Replanning
 // at t = 1 with nothing changed must keep every transition (robot 2 has nothing to do).
 TEST(ReplanKeep, MinChangeKeepsThePreviousPlanWhenItIsStillOptimal) {

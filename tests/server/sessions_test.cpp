@@ -192,7 +192,7 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
   for (int i = 0; i < 4; ++i) m.Then(MockReply::Chat(plan.dump()));
   // The long solve that is running when its replica is killed.
   // (Assembly: the first-plan engine's plan is not provably optimal there, so minizinc runs.)
-  Json slow = Example("assembly/test.json");
+  Json slow = Json::parse(std::ifstream(testing::SourceDir() + "/tests/data/slow_c_on_a.json"));
   m.Then(MockReply::Chat(slow.dump()));
   for (int i = 0; i < 2; ++i) m.Then(MockReply::Chat(plan.dump()));
 
