@@ -143,6 +143,7 @@ class Checker {
     guards_.resize(na);
     reads_.resize(na);
     for (std::size_t a = 0; a < na; ++a) {
+      shapes_.push_back(ShapeOf(d.automata[a], a < sp.initial.size() ? sp.initial[a] : -1));
       for (const auto& t : d.automata[a].transitions) {
         bool ok = true;
         guards_[a].push_back(Canon(t.guard, Renaming{}, ok));
@@ -171,7 +172,7 @@ class Checker {
   std::string Signature(int a) const {
     Renaming self;
     self.self = a;
-    std::string s = ShapeOf(d_.automata[a], sp_.initial[a]) + "#";
+    std::string s = shapes_[a] + "#";
     for (const auto& t : d_.automata[a].transitions) {
       bool ok = true;
       s += Canon(t.guard, self, ok) + (ok ? ";" : "?;");
@@ -207,8 +208,7 @@ class Checker {
           std::any_of(reads_[a].begin(), reads_[a].end(), [&](int x) { return moved[x]; });
       if (!moved[a] && !reads_moved) continue;
       const int b = perm[a];
-      if (ShapeOf(d_.automata[a], sp_.initial[a]) != ShapeOf(d_.automata[b], sp_.initial[b]))
-        return false;
+      if (shapes_[a] != shapes_[b]) return false;
       const auto& ts = d_.automata[a].transitions;
       for (std::size_t k = 0; k < ts.size(); ++k) {
         bool ok = true;
@@ -294,6 +294,7 @@ class Checker {
 
   const Domain& d_;
   const StatePlan& sp_;
+  std::vector<std::string> shapes_;               // ShapeOf per automaton
   std::vector<std::vector<std::string>> guards_;  // canon per automaton and transition
   std::vector<std::set<int>> reads_;              // automata an automaton's guards read
   std::vector<std::string> episodes_, episodes_any_, temporals_, temporals_any_, events_;

@@ -59,7 +59,6 @@ ProblemInfo Analyze(const Domain& d, const StatePlan& sp) {
     conds(t.event2);
     info.bound_sum += ToTicks(t.lower, info.ticks_per_second);
   }
-  info.symmetries = FindSymmetries(d, sp);
   return info;
 }
 

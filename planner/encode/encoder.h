@@ -36,7 +36,9 @@ struct ProblemInfo {
   long bound_sum = 0;                   // sum of episode and temporal lower bounds, ticks
   long min_cost = 0;                    // smallest transition cost (0 when there are none)
   long time_offset = 0;                 // replanning: `now` (ticks); the future starts there
-  std::vector<SymmetryOrbit> symmetries;  // interchangeable automata (analyze/symmetry.h)
+  // Interchangeable automata (analyze/symmetry.h): not filled by Analyze(); whoever wants the
+  // models to order them sets FindSymmetries(d, sp) here (the horizon solver does).
+  std::vector<SymmetryOrbit> symmetries;
 
   // Latest event time any plan with H events needs (see docs/encoding.md for the argument).
   long TimeBound(int horizon) const {

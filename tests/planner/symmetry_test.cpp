@@ -258,7 +258,9 @@ TEST(Symmetry, ShippedSearchRescueTestPrompts) {
 
 std::string Model(const Problem& p, EncodeOptions o) {
   o.horizon = 4;
-  return Encode(p.d, p.sp, Analyze(p.d, p.sp), o).model;
+  ProblemInfo info = Analyze(p.d, p.sp);
+  info.symmetries = FindSymmetries(p.d, p.sp);
+  return Encode(p.d, p.sp, info, o).model;
 }
 
 TEST(Symmetry, EncoderOrdersTheUnitsUnlessTurnedOffOrReplanning) {
