@@ -17,7 +17,7 @@ struct Renaming {
   const std::vector<int>* automata = nullptr;
   const std::vector<int>* episodes = nullptr;
   const std::vector<int>* temporals = nullptr;
-  int self = -1;                 // >= 0: automaton `self` prints as "s", every other one as "*"
+  int self = -1;                  // >= 0: automaton `self` prints as "s", every other one as "*"
   bool any_state_target = false;  // episode and temporal states print their target as "*"
 };
 
@@ -307,8 +307,7 @@ class Checker {
 // automata on a's side, a first, in the order they were forced). False on a contradiction.
 class Closure {
  public:
-  Closure(const Domain& d, const std::vector<std::string>& signatures)
-      : d_(d), sig_(signatures) {}
+  Closure(const Domain& d, const std::vector<std::string>& signatures) : d_(d), sig_(signatures) {}
 
   bool Run(int a, int b, std::vector<int>& perm, std::vector<int>& side) {
     perm_.assign(d_.automata.size(), -1);

@@ -21,8 +21,9 @@ namespace {
 // fixes), entry times to break the ties (measured: bench/results/symmetry.md).
 std::string Key(const std::string& table, const std::string& unit) {
   auto row = [&](const char* var) {
-    return std::string("[") + var + "[" + table + "[" + unit + ",u],k] | k in 1..H, u in "
-           "index_set_2of2(" + table + ")]";
+    const std::string member = table + "[" + unit + ",u]";
+    return std::string("[") + var + "[" + member + ",k] | k in 1..H, u in index_set_2of2(" + table +
+           ")]";
   };
   return "(" + row("L") + " ++ " + row("N") + ")";
 }

@@ -26,7 +26,7 @@ struct TransitionSpec {
   int from = 0, to = 0;
   std::string guard;
   int lo = 0;
-  int hi = -1;  // -1: unbounded; -2: no duration given
+  int hi = -1;   // -1: unbounded; -2: no duration given
   int cost = 0;  // 0: not given
   bool automatic = false;
 };
@@ -81,8 +81,8 @@ class SymmetricGenerator {
         t.guard += (t.guard.empty() ? "" : " /\\ ") + std::string("h{k}l[i]==q") +
                    std::to_string(Int(0, 1));
       if (shared_ && Chance(0.25))
-        t.guard += (t.guard.empty() ? "" : " /\\ ") + std::string("sl[i]==s") +
-                   std::to_string(Int(0, 1));
+        t.guard +=
+            (t.guard.empty() ? "" : " /\\ ") + std::string("sl[i]==s") + std::to_string(Int(0, 1));
       t.lo = Int(0, 3);
       if (t.automatic && t.lo == 0) t.lo = 1;
       t.hi = t.lo > 0 || Chance(0.3) ? (Chance(0.5) ? -1 : t.lo + Int(0, 2)) : -2;
@@ -113,7 +113,9 @@ class SymmetricGenerator {
       if (s.cost > 0) t["cost"] = s.cost;
       transitions.push_back(t);
     }
-    return {{"name", R(k)}, {"locations", locations}, {"commands", commands},
+    return {{"name", R(k)},
+            {"locations", locations},
+            {"commands", commands},
             {"transitions", transitions}};
   }
 
@@ -182,9 +184,9 @@ class SymmetricGenerator {
     }
     const bool per_copy_episodes = !calm.empty() && twist_ != 1 && Chance(0.4);
     const bool per_copy_temporals = twist_ != 1 && Chance(m_ == 2 ? 0.35 : 0.15);
-    const std::string ex = calm.empty() ? "p0" : Loc(calm[Int(0, static_cast<int>(calm.size()) - 1)]);
-    const std::string e1 = Loc(Int(0, nl_ - 1)),
-                      e2 = Loc(Int(0, nl_ - 1));
+    const std::string ex =
+        calm.empty() ? "p0" : Loc(calm[Int(0, static_cast<int>(calm.size()) - 1)]);
+    const std::string e1 = Loc(Int(0, nl_ - 1)), e2 = Loc(Int(0, nl_ - 1));
     const int elo = Int(0, 2), ehi = elo + Int(1, 4), tlo = Int(0, 4), thi = tlo + Int(0, 5);
     const bool self_ref = Chance(0.3);
     for (int k = 1; k <= m_; ++k) {
@@ -192,27 +194,30 @@ class SymmetricGenerator {
       if (per_copy_episodes && (twist_ != 3 || k == odd_))
         episodes["Stay" + K] = {{"accepting_constraint", r + "l[i]==" + ex},
                                 {"state_constraint", r + "l[i]==" + ex},
-                                {"lower_bound", elo}, {"upper_bound", ehi}};
+                                {"lower_bound", elo},
+                                {"upper_bound", ehi}};
       if (per_copy_temporals && (twist_ != 3 || k == odd_)) {
         std::string second = r + "l[i+1]==" + e2;
         if (self_ref) second += " /\\ temporalAcceptConstraint_Traj_Go" + K + "[i]==tempActive";
-        temporal["Go" + K] = {{"accepting_event1_constraint", r + "l[i]!=" + e1 + " /\\ " + r +
-                                                                  "l[i+1]==" + e1},
-                              {"accepting_event2_constraint", second},
-                              {"lower_bound", tlo}, {"upper_bound", thi}};
+        temporal["Go" + K] = {
+            {"accepting_event1_constraint", r + "l[i]!=" + e1 + " /\\ " + r + "l[i+1]==" + e1},
+            {"accepting_event2_constraint", second},
+            {"lower_bound", tlo},
+            {"upper_bound", thi}};
       }
       if (per_copy_episodes && per_copy_temporals && twist_ != 3 && Chance(0.3) && k == 1)
         events["Tie"] = Json::array({"Stay1.end", "Go1.event1"});
     }
     if (events.contains("Tie"))  // tie every copy alike (or, with a twist, the first only)
       for (int k = 2; k <= m_ && twist_ == 0; ++k)
-        events["Tie" + std::to_string(k)] =
-            Json::array({"Stay" + std::to_string(k) + ".end", "Go" + std::to_string(k) + ".event1"});
+        events["Tie" + std::to_string(k)] = Json::array(
+            {"Stay" + std::to_string(k) + ".end", "Go" + std::to_string(k) + ".event1"});
     if (!calm.empty() && twist_ != 1 && Chance(0.2)) {
       const std::string y = Loc(calm[Int(0, static_cast<int>(calm.size()) - 1)]);
       episodes["Together"] = {{"accepting_constraint", All(" /\\ ", y, "i")},
                               {"state_constraint", All(" /\\ ", y, "i")},
-                              {"lower_bound", Int(0, 2)}, {"upper_bound", 6}};
+                              {"lower_bound", Int(0, 2)},
+                              {"upper_bound", 6}};
     }
     static const char* const kObjectives[] = {"cost", "makespan", "cost_then_makespan"};
     return {{"initial_state", init},
@@ -272,7 +277,9 @@ int CheckRange(unsigned first, int count) {
     fixed.search = "tc_first";
     SolveOptions full;  // the default pipeline: first-plan incumbent, split, portfolio
     const std::vector<std::pair<const char*, SolveOptions>> configs = {
-        {"plain", plain}, {"ordered", ordered}, {"ordered, fixed horizon", fixed},
+        {"plain", plain},
+        {"ordered", ordered},
+        {"ordered, fixed horizon", fixed},
         {"default", full}};
     std::vector<Outcome> out;
     for (const auto& [name, o] : configs) out.push_back(Run(*d, *sp, o));
@@ -280,16 +287,19 @@ int CheckRange(unsigned first, int count) {
               << ", " << out[0].status << " " << out[0].value.dump() << "\n";
     if (std::getenv("CTB_SYM_DUMP")) std::cout << p.Describe() << "\n";
     for (std::size_t i = 0; i < out.size(); ++i) {
-      EXPECT_NE(out[i].status, "error") << "seed " << seed << " " << configs[i].first << ": "
-                                        << out[i].error << "\n" << p.Describe();
+      EXPECT_NE(out[i].status, "error")
+          << "seed " << seed << " " << configs[i].first << ": " << out[i].error << "\n"
+          << p.Describe();
       EXPECT_TRUE(out[i].status == "optimal" || out[i].status == "infeasible")
           << "seed " << seed << " " << configs[i].first << " undecided: " << out[i].status;
       if (i == 0) continue;
       EXPECT_EQ(out[i].status, out[0].status)
-          << "seed " << seed << ": " << configs[i].first << " vs plain\n" << p.Describe();
+          << "seed " << seed << ": " << configs[i].first << " vs plain\n"
+          << p.Describe();
       if (out[i].status == "optimal" && out[0].status == "optimal")
         EXPECT_EQ(out[i].value, out[0].value)
-            << "seed " << seed << ": " << configs[i].first << " vs plain\n" << p.Describe();
+            << "seed " << seed << ": " << configs[i].first << " vs plain\n"
+            << p.Describe();
     }
   }
   return symmetric;

@@ -21,13 +21,12 @@ Json Robots(int n, const std::vector<int>& durations = {}, const std::string& od
     const int dur = k - 1 < static_cast<int>(durations.size()) ? durations[k - 1] : 3;
     std::string guard = r + "u[i]==go /\\ gatel[i]==open";
     if (k == n && !odd_guard.empty()) guard = odd_guard;
-    automata.push_back(
-        {{"name", r},
-         {"locations", {"home", "going", "there"}},
-         {"commands", {"go"}},
-         {"transitions",
-          {{{"from", "home"}, {"to", "going"}, {"guard", guard}},
-           {{"from", "going"}, {"to", "there"}, {"duration", {dur, dur}}}}}});
+    automata.push_back({{"name", r},
+                        {"locations", {"home", "going", "there"}},
+                        {"commands", {"go"}},
+                        {"transitions",
+                         {{{"from", "home"}, {"to", "going"}, {"guard", guard}},
+                          {{"from", "going"}, {"to", "there"}, {"duration", {dur, dur}}}}}});
     someone += (k > 1 ? " \\/ " : "") + r + "l[i]==going";
   }
   automata.push_back({{"name", "gate"},
@@ -44,11 +43,11 @@ Json Units(int n) {
   Json automata = Json::array();
   for (int k = 1; k <= n; ++k) {
     const std::string c = "comp" + std::to_string(k), p = "proj" + std::to_string(k);
-    automata.push_back({{"name", c},
-                        {"locations", {"off", "on"}},
-                        {"commands", {"turnOn"}},
-                        {"transitions",
-                         {{{"from", "off"}, {"to", "on"}, {"guard", c + "u[i]==turnOn"}}}}});
+    automata.push_back(
+        {{"name", c},
+         {"locations", {"off", "on"}},
+         {"commands", {"turnOn"}},
+         {"transitions", {{{"from", "off"}, {"to", "on"}, {"guard", c + "u[i]==turnOn"}}}}});
     automata.push_back(
         {{"name", p},
          {"locations", {"off", "warm", "on"}},
@@ -107,21 +106,24 @@ const char* kAnyThere = "r1l[i+1]==there \\/ r2l[i+1]==there";
 
 TEST(Symmetry, FreeAssignmentIsOneOrbit) {
   // Three robots, each one must arrive: the goal is invariant, the gate reads all three.
-  EXPECT_EQ(Orbits(Robots(3), Plan(RobotsHome(3), "r1l[i+1]==there /\\ r3l[i+1]==there /\\ "
-                                                  "r2l[i+1]==there")),
+  EXPECT_EQ(Orbits(Robots(3), Plan(RobotsHome(3),
+                                   "r1l[i+1]==there /\\ r3l[i+1]==there /\\ "
+                                   "r2l[i+1]==there")),
             (Units_{{{0}, {1}, {2}}}));
   EXPECT_EQ(Orbits(Robots(2), Plan(RobotsHome(2), kAnyThere)), (Units_{{{0}, {1}}}));
   // Operands of \/ and <-> in another order are the same condition.
-  EXPECT_EQ(Orbits(Robots(2), Plan(RobotsHome(2), "(r2l[i+1]==there <-> r1l[i+1]==home) \\/ "
-                                                  "(r2l[i+1]==home <-> r1l[i+1]==there)")),
+  EXPECT_EQ(Orbits(Robots(2), Plan(RobotsHome(2),
+                                   "(r2l[i+1]==there <-> r1l[i+1]==home) \\/ "
+                                   "(r2l[i+1]==home <-> r1l[i+1]==there)")),
             (Units_{{{0}, {1}}}));
 }
 
 TEST(Symmetry, DifferentDurationIsNotSymmetric) {
   EXPECT_TRUE(Orbits(Robots(2, {3, 4}), Plan(RobotsHome(2), kAnyThere)).empty());
   // Two of three alike: only those two.
-  EXPECT_EQ(Orbits(Robots(3, {3, 4, 3}), Plan(RobotsHome(3), "r1l[i+1]==there /\\ "
-                                                             "r2l[i+1]==there /\\ r3l[i+1]==there")),
+  EXPECT_EQ(Orbits(Robots(3, {3, 4, 3}), Plan(RobotsHome(3),
+                                              "r1l[i+1]==there /\\ "
+                                              "r2l[i+1]==there /\\ r3l[i+1]==there")),
             (Units_{{{0}, {2}}}));
 }
 
@@ -166,11 +168,12 @@ TEST(Symmetry, NamedConstraintsMustMapOntoEachOther) {
                                      {{"Slow1", Stay("r1", 0, 10)}, {"Slow2", Stay("r2", 0, 11)}}))
                   .empty());
   // A goal that reads one of the two episodes' states.
-  EXPECT_TRUE(Orbits(Robots(2), Plan(RobotsHome(2),
-                                     std::string(kAnyThere) + " /\\ "
-                                         "epAcceptAutomatonTraj_Slow1[i]==epAccepted",
-                                     {{"Slow1", Stay("r1", 0, 10)}, {"Slow2", Stay("r2", 0, 10)}}))
-                  .empty());
+  EXPECT_TRUE(
+      Orbits(Robots(2), Plan(RobotsHome(2),
+                             std::string(kAnyThere) + " /\\ "
+                                                      "epAcceptAutomatonTraj_Slow1[i]==epAccepted",
+                             {{"Slow1", Stay("r1", 0, 10)}, {"Slow2", Stay("r2", 0, 10)}}))
+          .empty());
   // ... or both.
   EXPECT_EQ(Orbits(Robots(2), Plan(RobotsHome(2),
                                    "(" + std::string(kAnyThere) +
@@ -230,9 +233,9 @@ Json UnitsInit(int n) {
 TEST(Symmetry, UnitsOfSeveralAutomata) {
   // Every projector on together: units (projK, compK) exchange as a whole.
   std::string all;
-  for (int k = 1; k <= 3; ++k) all += (k > 1 ? " /\\ " : "") + ("proj" + std::to_string(k)) + "l[i+1]==on";
-  EXPECT_EQ(Orbits(Units(3), Plan(UnitsInit(3), all)),
-            (Units_{{{1, 0}, {3, 2}, {5, 4}}}));
+  for (int k = 1; k <= 3; ++k)
+    all += (k > 1 ? " /\\ " : "") + ("proj" + std::to_string(k)) + "l[i+1]==on";
+  EXPECT_EQ(Orbits(Units(3), Plan(UnitsInit(3), all)), (Units_{{{1, 0}, {3, 2}, {5, 4}}}));
   // Exchanging the computers alone is no symmetry: each projector reads its own computer.
   Problem p = Load(Units(2), Plan(UnitsInit(2), "proj1l[i+1]==on /\\ proj2l[i+1]==on"));
   EXPECT_FALSE(IsSymmetry(p.d, p.sp, {2, 1, 0, 3}));
@@ -253,7 +256,8 @@ TEST(Symmetry, ShippedSearchRescueTestPrompts) {
   ASSERT_EQ(orbits.size(), 1u);
   EXPECT_EQ(orbits[0].units, (std::vector<std::vector<int>>{{0}, {1}}));
   // Test prompt 2: robot 1 rescues person 1, which tells the robots apart.
-  EXPECT_TRUE(FindSymmetries(d, testing::ShippedStatePlan("search_rescue", dir + "test2.json")).empty());
+  EXPECT_TRUE(
+      FindSymmetries(d, testing::ShippedStatePlan("search_rescue", dir + "test2.json")).empty());
 }
 
 std::string Model(const Problem& p, EncodeOptions o) {
@@ -264,8 +268,9 @@ std::string Model(const Problem& p, EncodeOptions o) {
 }
 
 TEST(Symmetry, EncoderOrdersTheUnitsUnlessTurnedOffOrReplanning) {
-  Problem p = Load(Robots(3), Plan(RobotsHome(3), "r1l[i+1]==there /\\ r2l[i+1]==there /\\ "
-                                                  "r3l[i+1]==there"));
+  Problem p = Load(Robots(3), Plan(RobotsHome(3),
+                                   "r1l[i+1]==there /\\ r2l[i+1]==there /\\ "
+                                   "r3l[i+1]==there"));
   EncodeOptions o;
   std::string m = Model(p, o);
   EXPECT_NE(m.find("lex_lesseq"), std::string::npos);
