@@ -32,7 +32,10 @@ void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, 
   eo.horizon = std::max(1, horizon);
   eo.objective = objective;
   eo.redundant = o.redundant;
-  Encoding enc = Encode(d, sp, Analyze(d, sp), eo);
+  eo.symmetry = o.symmetry;
+  ProblemInfo info = Analyze(d, sp);
+  if (o.symmetry && !o.history) info.symmetries = FindSymmetries(d, sp);
+  Encoding enc = Encode(d, sp, info, eo);
   std::ofstream(o.model_out) << enc.model;
   std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
 }

@@ -37,6 +37,9 @@ struct SolveOptions {
   bool decompose = true;               // solve independent parts separately and merge
   bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
   bool redundant = true;               // the encoder's redundant constraints (bench only)
+  // Interchangeable automata (analyze/symmetry.h) ordered in the Gecode models (EncodeOptions::
+  // symmetry); never with a history. Off only to measure it or to check it (tests, bench/).
+  bool symmetry = true;
   // "portfolio" runs the first `portfolio` of g_first, tc_first (Gecode) and z3 at once (one
   // core each) and keeps the first proof; or one strategy: g_first, tc_first, first_fail,
   // transitions_first, default (Gecode's own), or z3 (the z3 engine alone, planner/smt).
