@@ -4,11 +4,11 @@
 // exactly as a replan reads them (BuildSituation); no solver runs here.
 #include "planner/search/history_nodes.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
-
-#include <gtest/gtest.h>
 
 #include "planner/replan/situation.h"
 #include "planner/search/first_plan.h"
@@ -94,9 +94,10 @@ TEST(FirstPlanFromHistory, AlongTheOptimalPlanNothingDepartsKeeps11) {
 TEST(FirstPlanFromHistory, BlockedBeforeLeavingGoesThroughDoor2In13) {
   const Domain& d = testing::ShippedDomain("search_rescue");
   StatePlan sp = Test2();
-  Replanned x = FromHistory(d, sp, {{"now", 0}, {"executed", Json::array()}, {"blocked", Json::parse(R"([
+  Replanned x =
+      FromHistory(d, sp, {{"now", 0}, {"executed", Json::array()}, {"blocked", Json::parse(R"([
       {"automaton": "robot1", "from": "outside", "to": "goingToDoor1"}])")}},
-                            Objective::kMakespan);
+                  Objective::kMakespan);
   ASSERT_TRUE(x.r.best);
   EXPECT_EQ(x.r.makespan, 13);
   EXPECT_TRUE(Takes(*x.r.best, d, "robot1", "outside", "goingToDoor2"));
@@ -158,8 +159,9 @@ TEST(FirstPlanFromHistory, DeclinesKeepStarted) {
   o.objective = Objective::kMakespan;
   FirstPlanResult plan = FindFirstPlan(d, sp, o);
   ASSERT_TRUE(plan.best);
-  Replanned x = FromHistory(d, sp, {{"now", 1}, {"trajectory", TrajectoryToJson(*plan.best, d, sp, 1)}},
-                            Objective::kMakespan, 2000, Keep::kStarted);
+  Replanned x =
+      FromHistory(d, sp, {{"now", 1}, {"trajectory", TrajectoryToJson(*plan.best, d, sp, 1)}},
+                  Objective::kMakespan, 2000, Keep::kStarted);
   ASSERT_FALSE(x.s.history.keep_next.empty());
   EXPECT_FALSE(x.r.best);
   EXPECT_NE(x.r.declined.find("started"), std::string::npos) << x.r.declined;
@@ -173,7 +175,8 @@ TEST(HistoryNodes, StagesAreTheHistorysAsReported) {
   ReplanRequest req;
   ASSERT_FALSE(ReadReplanRequest(Json::parse(R"({"now": 4, "executed": [
       {"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor1"},
-      {"time": 3, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}]})"), req, nullptr));
+      {"time": 3, "automaton": "robot1", "from": "goingToDoor1", "to": "atDoor1"}]})"),
+                                 req, nullptr));
   replan::Situation s;
   ASSERT_FALSE(replan::BuildSituation(d, sp, req, Keep::kNone, s));
   search::Expander ex(d, sp, 1);
@@ -227,7 +230,8 @@ TEST(FirstPlanFromHistory, RandomHistoriesNeverGiveAPlanTheVerifierRefuses) {
       body["observed"] = {{au.name, {{"location", au.locations[l]}}}};
     } else if (seed % 3 == 2 && !au.transitions.empty()) {
       const Transition& t = au.transitions[pick(0, static_cast<long>(au.transitions.size()) - 1)];
-      body["blocked"] = {{{"automaton", au.name}, {"from", au.locations[t.from]}, {"to", au.locations[t.to]}}};
+      body["blocked"] = {
+          {{"automaton", au.name}, {"from", au.locations[t.from]}, {"to", au.locations[t.to]}}};
     }
     SCOPED_TRACE("seed " + std::to_string(seed) + " request " + body.dump() + "\n" + p.Describe());
     Replanned x = FromHistory(*d, *sp, body, sp->objective, 100);
