@@ -64,7 +64,8 @@ struct SolveOptions {
   std::function<void(const Json& progress)> on_progress;
   // Replanning (planner/replan): the run begins with this fixed history (the encoder's and the
   // verifier's `history`), and `bounds`, valid given it, replace those computed from the initial
-  // state. Gecode only (the z3 engine has no history); no static analysis or split applies.
+  // state. The first-plan engine starts from the history (but declines keep "started"); of the
+  // exact engines Gecode only (z3 has no history); no static analysis or split applies.
   std::shared_ptr<const History> history;
   std::optional<ObjectiveBounds> bounds;
   // Where horizon growth starts when larger than the event bound (replanning: the previous
