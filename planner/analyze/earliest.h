@@ -1,6 +1,6 @@
 // Earliest times: a lower bound on when each location can first be entered and on when the end
 // state can be accepted, valid for every plan whatever its number of events (issue 9's makespan
-// bound). It reasons on the timed behaviour the graph bound of solve/bounds.h ignores:
+// bound). It reasons on the timed behaviour the graph bound of analyze/bounds.h ignores:
 //   - guards: a transition fires no earlier than every location its guard needs (a positive
 //     location atom of a conjunction; the earliest alternative of a disjunction) is entered, so a
 //     robot waits for the door another robot opens;

@@ -4,7 +4,7 @@
 // the locations the end state pins (each alternative of a disjunctive goal) and those the
 // episodes and temporal constraints need. Every plan is a relaxed plan, so the relaxed optimum
 // is at most its cost; the LM-cut heuristic (Helmert and Domshlak, 2009) bounds that optimum
-// from below. Unlike the per-automaton graph bound of solve/bounds.h it counts the help other
+// from below. Unlike the per-automaton graph bound of analyze/bounds.h it counts the help other
 // automata must give (someone opens the door, and the door moves), shared once.
 #pragma once
 

@@ -53,7 +53,7 @@ struct EncodeOptions {
   Objective objective = Objective::kCost;
   // Only plans strictly better than this objective value (in the model's units) are wanted.
   std::optional<long> better_than;
-  // A lower bound every plan obeys (solve/bounds.h), in the model's units: a redundant constraint
+  // A lower bound every plan obeys (analyze/bounds.h), in the model's units: a redundant constraint
   // that lets branch and bound stop at the first plan that meets it.
   std::optional<long> at_least;
   // Search strategy (see encode_objective.cpp); "default" leaves it to Gecode.

@@ -8,7 +8,7 @@
 
 #include "planner/model/json_io.h"
 #include "planner/replan/situation.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 
 namespace ctb::replan {
 

@@ -1,7 +1,7 @@
 // The first-plan engine (issue 18): a heuristic forward search over the network of timed automata
 // in time, as temporal planners do. It finds plans in milliseconds where the exact engines
 // (MiniZinc + Gecode, z3) need a model per horizon, but proves nothing: a plan it returns is only
-// `feasible` unless it meets a lower bound every plan obeys (solve/bounds.h).
+// `feasible` unless it meets a lower bound every plan obeys (analyze/bounds.h).
 //
 // States are the automata's locations, the clocks of their current locations (entry times) and
 // the state plan's monitors (episodes started and ended with their times, the events of temporal

@@ -13,7 +13,7 @@
 #include "planner/encode/encoder.h"
 #include "planner/encode/extract.h"
 #include "planner/solve/backend.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/solve/engines.h"
 #include "planner/verify/verify.h"
 
@@ -112,7 +112,7 @@ class Solver {
 
   SolverBackend& Backend() const { return o_.backend ? *o_.backend : DefaultBackend(); }
 
-  // The first horizon: no plan has fewer events (solve/bounds.h).
+  // The first horizon: no plan has fewer events (analyze/bounds.h).
   int LowerBound() const { return static_cast<int>(std::min<long>(bounds_.events, o_.max_horizon)); }
 
   // The most events a strictly better plan can have: each event carries a transition of cost

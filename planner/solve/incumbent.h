@@ -5,7 +5,7 @@
 
 #include <optional>
 
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/solve/horizon_solver.h"
 
 namespace ctb::solve {

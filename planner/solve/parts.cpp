@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "planner/expr/expr_print.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/verify/verify.h"
 
 namespace ctb::solve {

@@ -6,7 +6,7 @@
 #include "planner/analyze/analyze.h"
 #include "planner/encode/encoder.h"
 #include "planner/solve/backend.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/solve/decompose.h"
 #include "planner/solve/engines.h"
 #include "planner/solve/horizon_solver.h"

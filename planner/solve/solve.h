@@ -17,7 +17,7 @@
 #include "planner/model/error.h"
 #include "planner/model/state_plan.h"
 #include "planner/model/trajectory.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 
 namespace ctb {
 

@@ -14,7 +14,7 @@
 #include "planner/analyze/analyze.h"
 #include "planner/analyze/earliest.h"
 #include "planner/analyze/workload.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
 #include "random_helpers.h"
@@ -71,7 +71,7 @@ class Enumerator {
     return best_;
   }
   long plans_checked() const { return checked_; }
-  // Verified plans that beat a lower bound the planner relies on (solve/bounds.h,
+  // Verified plans that beat a lower bound the planner relies on (analyze/bounds.h,
   // analyze/earliest.h): must stay empty.
   const std::vector<std::string>& bound_violations() const { return violations_; }
 

@@ -1,5 +1,5 @@
 // Lower bounds that hold for every plan (issue 9): earliest times (analyze/earliest.h), the
-// delete relaxation (analyze/relaxed_cost.h), guard landmarks (solve/bounds.h) and the work only
+// delete relaxation (analyze/relaxed_cost.h), guard landmarks (analyze/bounds.h) and the work only
 // helpers can do (analyze/workload.h, issue 18). Soundness on random problems is checked against
 // every plan the brute-force enumeration finds and against exact optima (brute_force_test.cpp).
 #include "planner/analyze/earliest.h"
@@ -10,7 +10,7 @@
 
 #include "planner/analyze/relaxed_cost.h"
 #include "planner/analyze/workload.h"
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 #include "planner/solve/solve.h"
 #include "test_util.h"
 

@@ -1,4 +1,4 @@
-#include "planner/solve/bounds.h"
+#include "planner/analyze/bounds.h"
 
 #include <algorithm>
 #include <cmath>
