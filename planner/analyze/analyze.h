@@ -60,7 +60,7 @@ struct AnalysisOptions {
 
 // Every conflict the checks find, smallest sets first (parts of one conflict are not repeated
 // as a larger one). Empty when none is found. Runs in milliseconds on the shipped domains; the
-// zone search stops after 150 ms.
+// zone search stops after 100 ms.
 std::vector<StaticConflict> FindStaticConflicts(const Domain& d, const StatePlan& sp,
                                                 const AnalysisOptions& o = {});
 

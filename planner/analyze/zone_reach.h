@@ -9,7 +9,8 @@
 // dense (every plan in ticks is a dense run). Every plan is a run of the search, so "no run" is
 // a proof; a run found may not be a plan (then nothing is claimed).
 //
-// Thread-safe; no shared state. Each search is bounded (states and a deadline); beyond, no proof.
+// Thread-safe; no shared state. The searches of one call share a budget (100 ms, 60,000 states);
+// beyond, no proof. Domains of more than 8 automata are not searched.
 #pragma once
 
 #include <chrono>

@@ -17,6 +17,7 @@
 //     and every part is accepted; the maintenance constraint holds on every stage before it.
 #include <algorithm>
 #include <map>
+#include <queue>
 
 #include "planner/analyze/abstraction.h"
 #include "planner/analyze/dbm.h"
@@ -94,14 +95,13 @@ class Search {
       for (int a = 0; a < na_; ++a) z.Free(AC(a));
     // Event e[0]: no transition; the accepting automata read the initial stage.
     if (Monitors(View{nullptr, &sp_.initial, &s0}, s0, z)) return Reach::kRun;
-    while (!stack_.empty()) {
-      if (--b_.states < 0 || (++polls_ % 64 == 0 && std::chrono::steady_clock::now() > b_.deadline))
-        return Reach::kUnknown;
-      Sym s = std::move(stack_.back());
-      stack_.pop_back();
+    while (!open_.empty() && !spent_) {
+      if (--b_.states < 0) return Reach::kUnknown;
+      Sym s = std::move(const_cast<Open&>(open_.top()).s);
+      open_.pop();
       if (Expand(s)) return Reach::kRun;
     }
-    return Reach::kNoRun;
+    return spent_ ? Reach::kUnknown : Reach::kNoRun;
   }
 
  private:
@@ -131,6 +131,48 @@ class Search {
         if (c > 0 || !tr.commanded) maxc_[a][tr.from] = std::max(maxc_[a][tr.from], c);
       }
     }
+    GoalDistances();
+  }
+
+  // Per automaton the goal's location (a top-level conjunct "X[i+1]==L" or "X[i]==L"), and the
+  // fewest transitions from each location to it.
+  void GoalDistances() {
+    to_goal_.assign(na_, {});
+    std::vector<const Expr*> todo{&sp_.goal.raw};
+    while (!todo.empty()) {
+      const Expr* e = todo.back();
+      todo.pop_back();
+      if (e->op == Expr::Op::kAnd) {
+        todo.push_back(&e->kids[0]);
+        todo.push_back(&e->kids[1]);
+      } else if (e->op == Expr::Op::kAtom && e->var_kind == VarKind::kLocation && !e->not_equal &&
+                 e->index.kind != IndexKind::kFixed) {
+        to_goal_[e->target] = Backwards(e->target, e->value_code);
+      }
+    }
+  }
+
+  std::vector<int> Backwards(int a, int target) const {
+    const Automaton& au = d_.automata[a];
+    std::vector<int> dist(au.locations.size(), 1 << 20);
+    dist[target] = 0;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const Transition& tr : au.transitions)
+        if (dist[tr.to] + 1 < dist[tr.from]) dist[tr.from] = dist[tr.to] + 1, grew = true;
+    }
+    return dist;
+  }
+
+  // How far a state looks from the end state: transitions to the goal's locations, and two per
+  // part not yet accepted.
+  int Distance(const Disc& s) const {
+    int h = 0;
+    for (int a = 0; a < na_; ++a)
+      if (!to_goal_[a].empty()) h += std::min(to_goal_[a][s.loc[a]], 1000);
+    for (int p : s.ep) h += p == kEpAccepted ? 0 : 2;
+    for (int k : s.tc) h += k == kTcAccepted ? 0 : 2;
+    return h;
   }
 
   // --- conditions ---------------------------------------------------------------------------
@@ -267,7 +309,15 @@ class Search {
     return true;
   }
 
+  // One expansion may branch much (every subset of the automata moves): the deadline is read
+  // every 256 branches, and once passed every search loop unwinds (Run says kUnknown).
+  bool Spent() {
+    if (!spent_ && ++polls_ % 256 == 0 && std::chrono::steady_clock::now() > b_.deadline) spent_ = true;
+    return spent_;
+  }
+
   bool Moves(Move& m, int a, const Dbm& z) {
+    if (Spent()) return false;
     if (a == na_) return m.moved.empty() ? false : Fire(m, z);
     Dbm stay = z;
     if (NotDue(m, a, -1, stay) && Moves(m, a + 1, stay)) return true;
@@ -311,6 +361,7 @@ class Search {
   }
 
   bool Slot(Step& st, int k, const Dbm& z) {
+    if (Spent()) return false;
     if (k == ne_ + nt_) return Finish(st, z);
     if (k < ne_) return EpisodeSlot(st, k, z);
     return TemporalSlot(st, k - ne_, z);
@@ -434,7 +485,7 @@ class Search {
     seen.erase(std::remove_if(seen.begin(), seen.end(), [&](const Dbm& o) { return z.Includes(o); }),
                seen.end());
     seen.push_back(z);
-    stack_.push_back(Sym{s, std::move(z)});
+    open_.push(Open{Distance(s), ++pushed_, Sym{s, std::move(z)}});
   }
 
   const Domain& d_;
@@ -445,8 +496,19 @@ class Search {
   std::vector<std::vector<std::vector<int>>> out_;  // [a][location] -> transitions
   std::vector<std::vector<std::int64_t>> maxc_;     // [a][location]: largest constant, -1 none
   std::map<std::vector<int>, std::vector<Dbm>> passed_;
-  std::vector<Sym> stack_;
+  // The states to expand, nearest the end state first (the newest among equals): a plan is
+  // usually found at once, and a proof expands every state whatever the order.
+  struct Open {
+    int h;
+    long seq;
+    Sym s;
+    bool operator<(const Open& o) const { return h != o.h ? h > o.h : seq < o.seq; }
+  };
+  std::priority_queue<Open> open_;
+  long pushed_ = 0;
+  std::vector<std::vector<int>> to_goal_;  // [a][location]: transitions to the goal's location
   long polls_ = 0;
+  bool spent_ = false;
 };
 
 }  // namespace
