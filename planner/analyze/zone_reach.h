@@ -9,8 +9,9 @@
 // dense (every plan in ticks is a dense run). Every plan is a run of the search, so "no run" is
 // a proof; a run found may not be a plan (then nothing is claimed).
 //
-// Thread-safe; no shared state. The searches of one call share a budget (100 ms, 60,000 states);
-// beyond, no proof. Domains of more than 8 automata are not searched.
+// Thread-safe; no shared state. The searches of one call share a budget (100 ms, 60,000 states;
+// about 32 MB of zones per search); beyond, no proof. Domains of more than 8 automata are not
+// searched.
 #pragma once
 
 #include <chrono>

@@ -476,9 +476,20 @@ class Search {
     return m;
   }
 
+  // Zones kept (each n x n bounds): at most about 32 MB of them per search, whatever the number
+  // of clocks; beyond, no proof.
+  long MaxKept() const {
+    const long n = 1 + na_ + ne_ + nt_;
+    return std::max(1000L, 4000000L / (n * n));
+  }
+
   void Push(const Disc& s, Dbm z) {
     z.Extrapolate(MaxConstants(s));
     if (z.Empty()) return;
+    if (pushed_ >= MaxKept()) {
+      spent_ = true;
+      return;
+    }
     auto& seen = passed_[s.Key()];
     for (const Dbm& o : seen)
       if (o.Includes(z)) return;

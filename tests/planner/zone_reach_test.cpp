@@ -167,5 +167,27 @@ TEST(ZoneSearch, UnknownClocksClaimNothingAboutTimeAlreadySpent) {
   EXPECT_FALSE(FindZoneConflict(d, *sp, false));
 }
 
+// Untrusted state plans may have many parts (a clock each) whose conditions read commands (either
+// value at every event): the search keeps to its budget (time, states, and memory for zones).
+TEST(ZoneSearch, ManyPartsStayWithinTheBudget) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  Json temporal = Json::object();
+  for (int k = 0; k < 40; ++k)
+    temporal["T" + std::to_string(k)] = {
+        {"accepting_event1_constraint", "proju[i]==projTurnOn \\/ compu[i]==compTurnOff"},
+        {"accepting_event2_constraint", "compl[i+1]==compOn"},
+        {"lower_bound", k}, {"upper_bound", 1000 + k}};
+  Json j = {{"initial_state", {{"comp", "compOff"}, {"conn", "disconnected"}, {"proj", "projOff"}}},
+            {"end_state", {{"goal_constraint", "projl[i+1]==projOn"}}},
+            {"constraints", {{"temporal", temporal}}}};
+  Diagnostics diags;
+  auto sp = LoadStatePlan(j, d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  const auto t0 = std::chrono::steady_clock::now();
+  FindZoneConflict(d, *sp, true);
+  const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0);
+  EXPECT_LT(ms.count(), 1000);
+}
+
 }  // namespace
 }  // namespace ctb
