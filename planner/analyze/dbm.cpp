@@ -78,8 +78,10 @@ void Dbm::Extrapolate(const std::vector<std::int64_t>& max) {
       if (i == j || M(i, j) >= kInfinity) continue;
       const std::int64_t mi = i ? max[i] : 0, mj = j ? max[j] : 0;
       if (mi < 0 || mj < 0) continue;
-      if (M(i, j) > Le(mi)) M(i, j) = kInfinity, changed = true;
-      else if (M(i, j) < Lt(-mj)) M(i, j) = Lt(-mj), changed = true;
+      if (M(i, j) > Le(mi))
+        M(i, j) = kInfinity, changed = true;
+      else if (M(i, j) < Lt(-mj))
+        M(i, j) = Lt(-mj), changed = true;
     }
   if (changed) Close();
 }

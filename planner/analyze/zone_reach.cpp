@@ -49,12 +49,16 @@ std::vector<Part> Parts(const StatePlan& sp, ZoneQuestion& q) {
 class Conflict {
  public:
   Conflict(const Domain& d, const StatePlan& sp, bool clocks_known)
-      : d_(d), sp_(sp), q_(WholePlan(d, sp, clocks_known)),
+      : d_(d),
+        sp_(sp),
+        q_(WholePlan(d, sp, clocks_known)),
         budget_{kStateBudget, SteadyClock::now() + kTimeBudget} {}
 
   // Keeps only the parts named (pointers); the goal and maintenance constraint likewise.
   void Keep(const std::vector<std::string>& parts) {
-    auto in = [&](const std::string& p) { return std::find(parts.begin(), parts.end(), p) != parts.end(); };
+    auto in = [&](const std::string& p) {
+      return std::find(parts.begin(), parts.end(), p) != parts.end();
+    };
     for (Part& p : Parts(sp_, q_)) *p.flag = in(p.pointer);
     q_.goal = in(sp_.goal.pointer);
     q_.maintenance = in(sp_.maintenance.pointer);
@@ -113,8 +117,10 @@ class Conflict {
     const bool helps = !Refuted(q_);
     while (helps && std::llabs(good - bad) > 1) {
       bound = bad + (good - bad) / 2;
-      if (Refuted(q_)) bad = bound;
-      else good = bound;
+      if (Refuted(q_))
+        bad = bound;
+      else
+        good = bound;
     }
     bound = keep;
     if (!helps) return std::nullopt;
@@ -153,7 +159,8 @@ class Conflict {
       const bool upper = p.size() > 12 && p.compare(p.size() - 12, 12, "/upper_bound") == 0;
       const std::string part = p.substr(0, p.rfind('/'));
       const std::string name = part.substr(part.rfind('/') + 1);
-      const std::string kind = part.find("/episodes/") != std::string::npos ? "episode " : "temporal constraint ";
+      const std::string kind =
+          part.find("/episodes/") != std::string::npos ? "episode " : "temporal constraint ";
       needs += (needs.empty() ? "" : "; ") + kind + name + " would need " +
                (upper ? "at least " : "at most ") + Num(h.value) + " s as its " +
                (upper ? "upper" : "lower") + " bound";
@@ -177,8 +184,10 @@ ZoneQuestion WholePlan(const Domain& d, const StatePlan& sp, bool clocks_known) 
   q.episodes.assign(sp.episodes.size(), 1);
   q.temporals.assign(sp.temporals.size(), 1);
   q.events.assign(sp.events.size(), 1);
-  for (const auto& ep : sp.episodes) q.ep_lo.push_back(ticks(ep.lower)), q.ep_hi.push_back(ticks(ep.upper));
-  for (const auto& tc : sp.temporals) q.tc_lo.push_back(ticks(tc.lower)), q.tc_hi.push_back(ticks(tc.upper));
+  for (const auto& ep : sp.episodes)
+    q.ep_lo.push_back(ticks(ep.lower)), q.ep_hi.push_back(ticks(ep.upper));
+  for (const auto& tc : sp.temporals)
+    q.tc_lo.push_back(ticks(tc.lower)), q.tc_hi.push_back(ticks(tc.upper));
   return q;
 }
 

@@ -60,18 +60,25 @@ Tv FromBool(bool b) { return b ? Tv::kTrue : Tv::kFalse; }
 template <class Atom>
 Tv Eval3(const Expr& e, const Atom& atom) {
   switch (e.op) {
-    case Expr::Op::kTrue: return Tv::kTrue;
-    case Expr::Op::kFalse: return Tv::kFalse;
-    case Expr::Op::kNot: return Not(Eval3(e.kids[0], atom));
-    case Expr::Op::kAnd: return And(Eval3(e.kids[0], atom), Eval3(e.kids[1], atom));
-    case Expr::Op::kOr: return Or(Eval3(e.kids[0], atom), Eval3(e.kids[1], atom));
-    case Expr::Op::kImplies: return Or(Not(Eval3(e.kids[0], atom)), Eval3(e.kids[1], atom));
+    case Expr::Op::kTrue:
+      return Tv::kTrue;
+    case Expr::Op::kFalse:
+      return Tv::kFalse;
+    case Expr::Op::kNot:
+      return Not(Eval3(e.kids[0], atom));
+    case Expr::Op::kAnd:
+      return And(Eval3(e.kids[0], atom), Eval3(e.kids[1], atom));
+    case Expr::Op::kOr:
+      return Or(Eval3(e.kids[0], atom), Eval3(e.kids[1], atom));
+    case Expr::Op::kImplies:
+      return Or(Not(Eval3(e.kids[0], atom)), Eval3(e.kids[1], atom));
     case Expr::Op::kIff: {
       Tv a = Eval3(e.kids[0], atom), b = Eval3(e.kids[1], atom);
       if (a == Tv::kUnknown || b == Tv::kUnknown) return Tv::kUnknown;
       return FromBool(a == b);
     }
-    case Expr::Op::kAtom: break;
+    case Expr::Op::kAtom:
+      break;
   }
   return atom(e);
 }
@@ -79,8 +86,13 @@ Tv Eval3(const Expr& e, const Atom& atom) {
 class Search {
  public:
   Search(const Domain& d, const StatePlan& sp, const ZoneQuestion& q, ZoneBudget& b)
-      : d_(d), sp_(sp), q_(q), b_(b), na_(static_cast<int>(d.automata.size())),
-        ne_(static_cast<int>(sp.episodes.size())), nt_(static_cast<int>(sp.temporals.size())) {
+      : d_(d),
+        sp_(sp),
+        q_(q),
+        b_(b),
+        na_(static_cast<int>(d.automata.size())),
+        ne_(static_cast<int>(sp.episodes.size())),
+        nt_(static_cast<int>(sp.temporals.size())) {
     Prepare();
   }
 
@@ -201,7 +213,7 @@ class Search {
       value = sp_.initial[atom.target];
     } else {
       value = (change && atom.index.kind == IndexKind::kI) ? (*v.prev)[atom.target]
-                                                            : (*v.next)[atom.target];
+                                                           : (*v.next)[atom.target];
     }
     return FromBool((value == atom.value_code) != atom.not_equal);
   }
@@ -219,8 +231,9 @@ class Search {
 
   Tv Guard(const Transition& tr, const std::vector<int>& loc) const {
     return Eval3(tr.guard, [&](const Expr& a) {
-      return a.var_kind == VarKind::kLocation ? FromBool((loc[a.target] == a.value_code) != a.not_equal)
-                                              : Tv::kUnknown;
+      return a.var_kind == VarKind::kLocation
+                 ? FromBool((loc[a.target] == a.value_code) != a.not_equal)
+                 : Tv::kUnknown;
     });
   }
 
@@ -252,11 +265,13 @@ class Search {
     for (int a = 0; a < na_; ++a)
       for (auto [t, g] : st.out[a]) {
         const Transition& tr = d_.automata[a].transitions[t];
-        if (tr.controllable && g == Tv::kTrue && tr.duration.hi && !z.AtMost(AC(a), Ticks(*tr.duration.hi)))
+        if (tr.controllable && g == Tv::kTrue && tr.duration.hi &&
+            !z.AtMost(AC(a), Ticks(*tr.duration.hi)))
           return false;
       }
     for (int p = 0; p < ne_; ++p)
-      if (s.ep[p] == kEpActive && Bounded(q_.ep_hi[p]) && !z.AtMost(EC(p), q_.ep_hi[p])) return false;
+      if (s.ep[p] == kEpActive && Bounded(q_.ep_hi[p]) && !z.AtMost(EC(p), q_.ep_hi[p]))
+        return false;
     for (int k = 0; k < nt_; ++k) {
       const bool active = s.tc[k] == kAwait1 || s.tc[k] == kAwait2;
       if (active && Bounded(q_.tc_hi[k]) && !z.AtMost(TC(k), q_.tc_hi[k])) return false;
@@ -312,7 +327,8 @@ class Search {
   // One expansion may branch much (every subset of the automata moves): the deadline is read
   // every 256 branches, and once passed every search loop unwinds (Run says kUnknown).
   bool Spent() {
-    if (!spent_ && ++polls_ % 256 == 0 && std::chrono::steady_clock::now() > b_.deadline) spent_ = true;
+    if (!spent_ && ++polls_ % 256 == 0 && std::chrono::steady_clock::now() > b_.deadline)
+      spent_ = true;
     return spent_;
   }
 
@@ -427,10 +443,14 @@ class Search {
 
   int EndpointSlot(const Endpoint& e) const {
     switch (e.kind) {
-      case EndpointKind::kEpisodeStart: return 2 * e.index;
-      case EndpointKind::kEpisodeEnd: return 2 * e.index + 1;
-      case EndpointKind::kEvent1: return 2 * (ne_ + e.index);
-      case EndpointKind::kEvent2: return 2 * (ne_ + e.index) + 1;
+      case EndpointKind::kEpisodeStart:
+        return 2 * e.index;
+      case EndpointKind::kEpisodeEnd:
+        return 2 * e.index + 1;
+      case EndpointKind::kEvent1:
+        return 2 * (ne_ + e.index);
+      case EndpointKind::kEvent2:
+        return 2 * (ne_ + e.index) + 1;
     }
     return 0;
   }
@@ -468,8 +488,7 @@ class Search {
     std::vector<std::int64_t> m(1 + na_ + ne_ + nt_, -1);
     for (int a = 0; a < na_; ++a) m[AC(a)] = maxc_[a][s.loc[a]];
     for (int p = 0; p < ne_; ++p)
-      if (s.ep[p] == kEpActive)
-        m[EC(p)] = Bounded(q_.ep_hi[p]) ? q_.ep_hi[p] : q_.ep_lo[p];
+      if (s.ep[p] == kEpActive) m[EC(p)] = Bounded(q_.ep_hi[p]) ? q_.ep_hi[p] : q_.ep_lo[p];
     for (int k = 0; k < nt_; ++k)
       if (s.tc[k] == kAwait1 || s.tc[k] == kAwait2)
         m[TC(k)] = Bounded(q_.tc_hi[k]) ? q_.tc_hi[k] : q_.tc_lo[k];
@@ -493,8 +512,9 @@ class Search {
     auto& seen = passed_[s.Key()];
     for (const Dbm& o : seen)
       if (o.Includes(z)) return;
-    seen.erase(std::remove_if(seen.begin(), seen.end(), [&](const Dbm& o) { return z.Includes(o); }),
-               seen.end());
+    seen.erase(
+        std::remove_if(seen.begin(), seen.end(), [&](const Dbm& o) { return z.Includes(o); }),
+        seen.end());
     seen.push_back(z);
     open_.push(Open{Distance(s), ++pushed_, Sym{s, std::move(z)}});
   }

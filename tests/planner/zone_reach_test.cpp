@@ -145,7 +145,8 @@ TEST(ZoneSearch, FindsARunForEveryFeasibleExample) {
     const auto t0 = std::chrono::steady_clock::now();
     analysis::ZoneBudget b{200000, t0 + std::chrono::seconds(10)};
     EXPECT_EQ(analysis::SearchZones(d, sp, q, b), Reach::kRun);
-    const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0);
+    const auto ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0);
     EXPECT_LT(ms.count(), 100);
   }
 }
@@ -176,7 +177,8 @@ TEST(ZoneSearch, ManyPartsStayWithinTheBudget) {
     temporal["T" + std::to_string(k)] = {
         {"accepting_event1_constraint", "proju[i]==projTurnOn \\/ compu[i]==compTurnOff"},
         {"accepting_event2_constraint", "compl[i+1]==compOn"},
-        {"lower_bound", k}, {"upper_bound", 1000 + k}};
+        {"lower_bound", k},
+        {"upper_bound", 1000 + k}};
   Json j = {{"initial_state", {{"comp", "compOff"}, {"conn", "disconnected"}, {"proj", "projOff"}}},
             {"end_state", {{"goal_constraint", "projl[i+1]==projOn"}}},
             {"constraints", {{"temporal", temporal}}}};
