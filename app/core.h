@@ -79,10 +79,12 @@ struct RequestOptions {
   std::optional<long> max_horizon;
 };
 
-// A domain by name, or an inline action model (exactly one).
+// A domain by name, or an inline action model (exactly one); or, from a trusted local caller (the
+// CLI, which read and checked it from a file), the domain already loaded.
 struct DomainRef {
   std::optional<std::string> name;
   std::optional<Json> action_model;
+  std::shared_ptr<const Domain> loaded;
 };
 
 struct SolveCall {

@@ -111,6 +111,7 @@ std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
 
 std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::ResolveDomain(
     const DomainRef& ref) const {
+  if (ref.loaded && !ref.name && !ref.action_model) return ref.loaded;
   if (ref.name.has_value() == ref.action_model.has_value())
     return Bad("give exactly one of \"domain\" and \"action_model\"", "/domain");
   if (ref.name) return NamedDomain(*ref.name);

@@ -4,6 +4,7 @@ template config/templates/search_rescue_team.json (expanded by `ctburton domain 
 
   assign  free assignment: every person rescued by some robot, robots of three speeds
           (robot k's timed moves take 1, 2 or 3 times as long);
+  assign_eq  the same with robots of one speed (interchangeable: bench/symmetry.py);
   door    a shared resource as a state constraint: at most one robot opening door 1 or door 2
           at a time, robot k rescues person k;
   due     deadlines: robot k rescues person k within a bound a little above its fastest route;
@@ -28,10 +29,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import BIN, ROOT  # noqa: E402
 
 TEMPLATE = os.path.join(ROOT, "config", "templates", "search_rescue_team.json")
-FAMILIES = ("assign", "door", "due", "all")
+FAMILIES = ("assign", "assign_eq", "door", "due", "all")
 # Beyond these sizes the goal or the pairwise door constraint is longer than the 8192 characters
 # a state-plan expression may have (contract section 8): the state plan cannot say it.
-MAX_ROBOTS = {"assign": 8, "door": 8, "due": 64, "all": 8}
+MAX_ROBOTS = {"assign": 8, "assign_eq": 8, "door": 8, "due": 64, "all": 8}
 
 
 def expand(binary, n, speeds, path):
@@ -56,7 +57,7 @@ def plan(n, family):
     init = {f"robot{k}": "outside" for k in range(1, n + 1)}
     init.update({"door1": "closed", "door2": "closed", "door3": "open"})
     robots = range(1, n + 1)
-    if family in ("assign", "all"):
+    if family in ("assign", "assign_eq", "all"):
         goal = " /\\ ".join("(" + " \\/ ".join(f"robot{k}l[i+1]==rescuedPerson{p}" for k in robots) + ")"
                             for p in robots)
     else:
@@ -139,7 +140,7 @@ def main():
              f"{load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}. Seconds; `first`: the first verified "
              "plan; `total`: the answer (`stats.solve_ms`).", "",
              "Families (bench/families.py): `assign` free assignment of robots to persons, robots of "
-             "three speeds; `door` at most one robot opening each door at a time (a state "
+             "three speeds (`assign_eq`: one speed); `door` at most one robot opening each door at a time (a state "
              "constraint); `due` a deadline per rescue; `all` the three together.", ""]
     head = "| family | robots | status | makespan | first | total | found by | proved by |"
     if a.before:

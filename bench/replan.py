@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
 """Replanning a 4-robot coupled search_rescue plan end to end (issue 21: target < 2 s).
 
-    python3 bench/replan.py [--robots 4] [--repeat 3] [--out bench/results]
+    python3 bench/replan.py [--robots 4] [--repeat 3] [--out bench/results] [--bin PATH]
+                            [--baseline OLD.json]
 
 Generates the domain and the state plan (tools/gen_domains.py, bench/gen_scaled.py: robot k
 rescues person k), solves it once with `ctburton solve --objective makespan`, then times
 `ctburton replan` (the whole process: load, checks, bounds, solve, verify, diff) on departures
 along that plan: nothing departs, a robot's next move blocked, a robot found back where it was, a
 transition that did not happen, keep min_change, and now = 0. Writes bench/results/replan.{md,json}
-with the median of --repeat runs, the status, objective, solver runs, and the load average.
+with the median of --repeat runs, the status, objective, solver runs, which engine found and
+proved the answer, and the load average. --bin times another build's ctburton (e.g. main's, for a
+before/after); --baseline adds the medians of an earlier run's replan.json as a "before" column.
 """
 import argparse
 import json
@@ -69,12 +72,16 @@ def scenarios(plan, n):
 
 
 def main():
+    global BIN
     ap = argparse.ArgumentParser()
     ap.add_argument("--robots", type=int, default=4)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--time-limit-ms", type=int, default=60000)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    ap.add_argument("--bin", default=BIN, help="the ctburton binary to time")
+    ap.add_argument("--baseline", help="an earlier replan.json: its medians as a 'before' column")
     a = ap.parse_args()
+    BIN = a.bin
     n = a.robots
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -103,6 +110,8 @@ def main():
                    "status": ans.get("status"), "objective": ans.get("objective", {}).get("value"),
                    "solver_runs": ans.get("stats", {}).get("solver_runs"),
                    "history_events": ans.get("stats", {}).get("history_events"),
+                   "found_by": ans.get("stats", {}).get("found_by"),
+                   "proved_by": ans.get("stats", {}).get("proved_by"),
                    "verified": ans.get("verified")}
             if "diff" in ans:
                 row["diff"] = {k: len(v) for k, v in ans["diff"].items()}
@@ -111,20 +120,39 @@ def main():
     load = os.getloadavg()
     os.makedirs(a.out, exist_ok=True)
     cmd = "python3 bench/replan.py " + " ".join(sys.argv[1:])
-    json.dump({"command": cmd, "robots": n, "loadavg": load, "rows": rows},
+    before = load_baseline(a.baseline)
+    json.dump({"command": cmd, "binary": a.bin, "robots": n, "loadavg": load, "rows": rows,
+               "baseline": before},
               open(os.path.join(a.out, "replan.json"), "w"), indent=1)
     with open(os.path.join(a.out, "replan.md"), "w") as f:
         f.write(f"# Replanning search_rescue with {n} robots (issue 21)\n\n")
-        f.write(f"Command: `{cmd}` (build/client/ctburton, RelWithDebInfo). Each replan is the whole "
-                "`ctburton replan` process (load, checks, bounds, solve, verify, diff); median of "
-                f"{a.repeat} runs. Load average at the end: {load[0]:.1f} on {os.cpu_count()} cores "
-                "(other builds and test suites ran at the same time).\n\n")
-        f.write("| case | median ms | runs (ms) | status | makespan | solver runs | history events | diff |\n")
-        f.write("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
+        f.write(f"Command: `{cmd}` ({os.path.relpath(a.bin, ROOT)}, RelWithDebInfo). Each replan is "
+                "the whole `ctburton replan` process (load, checks, bounds, solve, verify, diff); "
+                f"median of {a.repeat} runs. Load average (1, 5, 15 min) at the end: "
+                f"{load[0]:.1f}, {load[1]:.1f}, {load[2]:.1f} on {os.cpu_count()} cores.\n\n")
+        if before:
+            f.write(f"Before: the medians of `{before['command']}` ({before['binary']}; load at its end "
+                    f"{before['loadavg'][0]:.1f}).\n\n")
+        f.write("| case | median ms |" + (" before ms |" if before else "") + " runs (ms) | status | "
+                "makespan | solver runs | found by | proved by | history events | diff |\n")
+        f.write("| --- " * (10 + bool(before)) + "|\n")
         for r in rows:
-            f.write(f"| {r['case']} | {r.get('median_ms', r['ms'][0])} | {', '.join(map(str, r['ms']))} | "
-                    f"{r['status']} | {r['objective']} | {r.get('solver_runs')} | "
+            old = before["medians"].get(r["case"], "") if before else None
+            f.write(f"| {r['case']} | {r.get('median_ms', r['ms'][0])} |" +
+                    (f" {old} |" if before else "") +
+                    f" {', '.join(map(str, r['ms']))} | {r['status']} | {r['objective']} | "
+                    f"{r.get('solver_runs')} | {r.get('found_by', '')} | {r.get('proved_by', '')} | "
                     f"{r.get('history_events', '')} | {r.get('diff', '')} |\n")
+
+
+def load_baseline(path):
+    """The medians of an earlier run (its replan.json), by case."""
+    if not path:
+        return None
+    old = json.load(open(path))
+    return {"command": old.get("command"), "binary": old.get("binary", "build/client/ctburton"),
+            "loadavg": old.get("loadavg"),
+            "medians": {r["case"]: r.get("median_ms", r["ms"][0]) for r in old["rows"]}}
 
 
 if __name__ == "__main__":

@@ -87,7 +87,7 @@ int RunSolve(const SolveCliOptions& o) {
   }
   auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
   app::SolveCall call;
-  call.domain.action_model = DomainToJson(*domain);
+  call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
   call.state_plan = *json;
   if (!o.objective.empty()) call.options.objective = o.objective;
   call.options.time_limit_ms = o.time_limit_ms;

@@ -1,19 +1,53 @@
 #include "planner/analyze/abstraction.h"
 
+#include <functional>
+#include <queue>
+#include <utility>
+
 #include "planner/expr/normalize.h"
 
 namespace ctb::analysis {
 
 namespace {
 
+// `stage_opts` is left as it was; it is changed during the call (not copied per transition).
 bool GuardMayHold(const Transition& tr, int self, const std::vector<int>& init,
-                  const std::vector<std::vector<Opt>>& stage_opts) {
+                  std::vector<std::vector<Opt>>& stage_opts) {
+  if (IsTrue(tr.guard)) return true;
   // The own automaton is in `from`: pin it by giving it that single option.
-  std::vector<std::vector<Opt>> opts = stage_opts;
-  opts[self] = {Opt{tr.from, tr.from}};
+  std::vector<Opt> own{Opt{tr.from, tr.from}};
+  std::swap(stage_opts[self], own);
   std::vector<Term> terms{{&tr.guard, false}};
-  SatSearch s(init, opts, terms);
-  return s.Run();
+  SatSearch s(init, stage_opts, terms);
+  const bool may = s.Run();
+  std::swap(stage_opts[self], own);
+  return may;
+}
+
+// Least total weight between every two nodes, [from * n + to] (kInf: none), by Dijkstra from
+// each node: the graphs are sparse, and Floyd-Warshall's n^3 took seconds on automata with a
+// location per robot (64 robots).
+std::vector<double> AllPairsLeast(const std::vector<std::vector<std::pair<int, double>>>& edges) {
+  const int n = static_cast<int>(edges.size());
+  std::vector<double> dist(static_cast<std::size_t>(n) * n, kInf);
+  using Item = std::pair<double, int>;
+  for (int s = 0; s < n; ++s) {
+    double* row = &dist[static_cast<std::size_t>(s) * n];
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+    row[s] = 0;
+    open.push({0, s});
+    while (!open.empty()) {
+      auto [d, u] = open.top();
+      open.pop();
+      if (d > row[u]) continue;
+      for (auto [v, w] : edges[u])
+        if (d + w < row[v]) {
+          row[v] = d + w;
+          open.push({row[v], v});
+        }
+    }
+  }
+  return dist;
 }
 
 }  // namespace
@@ -88,20 +122,15 @@ Abstraction Build(const Domain& d, const StatePlan& sp,
         ab.event_opts[a].push_back({l, l});
         ab.event_guards[a].push_back(nullptr);
       }
-    auto& dist = ab.dist[a];
-    dist.assign(n * n, kInf);
-    for (int l = 0; l < n; ++l) dist[l * n + l] = 0;
+    std::vector<std::vector<std::pair<int, double>>> edges(n);
     for (std::size_t t = 0; t < au.transitions.size(); ++t) {
       if (!ab.usable[a][t]) continue;
       const Transition& tr = au.transitions[t];
       ab.event_opts[a].push_back({tr.from, tr.to});
       ab.event_guards[a].push_back(tr.from == tr.to || IsTrue(tr.guard) ? nullptr : &tr.guard);
-      dist[tr.from * n + tr.to] = std::min(dist[tr.from * n + tr.to], tr.duration.lo);
+      edges[tr.from].emplace_back(tr.to, tr.duration.lo);
     }
-    for (int k = 0; k < n; ++k)
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-          dist[i * n + j] = std::min(dist[i * n + j], dist[i * n + k] + dist[k * n + j]);
+    ab.dist[a] = AllPairsLeast(edges);
   }
   return ab;
 }

@@ -33,6 +33,8 @@ std::string PrintCondition(const Context& c, const Expr& e, const ExprInfo& info
 void EmitHeader(const Context& c);
 void EmitAutomata(const Context& c);
 void EmitStatePlan(const Context& c);
+// Symmetry breaking (encode_symmetry.cpp): nothing when there is no orbit or it does not apply.
+void EmitSymmetry(const Context& c);
 void EmitObjectiveAndSearch(const Context& c, Encoding& enc);
 // Replanning (encode_history.cpp): the fixed history, keep "started", and its data.
 void EmitHistory(const Context& c);

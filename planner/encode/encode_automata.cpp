@@ -158,6 +158,7 @@ void EmitAutomata(const Context& c) {
   EmitAutomatic(c);
   EmitConcise(c);
   if (c.opts.redundant) EmitTimeDistances(c);
+  EmitSymmetry(c);
   c.out += "\n";
 }
 

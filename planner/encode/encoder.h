@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "planner/analyze/symmetry.h"
 #include "planner/model/domain.h"
 #include "planner/model/json_io.h"
 #include "planner/model/state_plan.h"
@@ -35,6 +36,9 @@ struct ProblemInfo {
   long bound_sum = 0;                   // sum of episode and temporal lower bounds, ticks
   long min_cost = 0;                    // smallest transition cost (0 when there are none)
   long time_offset = 0;                 // replanning: `now` (ticks); the future starts there
+  // Interchangeable automata (analyze/symmetry.h): not filled by Analyze(); whoever wants the
+  // models to order them sets FindSymmetries(d, sp) here (the horizon solver does).
+  std::vector<SymmetryOrbit> symmetries;
 
   // Latest event time any plan with H events needs (see docs/encoding.md for the argument).
   long TimeBound(int horizon) const {
@@ -57,6 +61,12 @@ struct EncodeOptions {
   // The redundant constraints (entry <= event time, minimum time between locations, cost-to-go,
   // cost >= events); off only to measure what they bring (bench/).
   bool redundant = true;
+  // Symmetry breaking: the units of each orbit of ProblemInfo::symmetries in lexicographic order
+  // of their locations and entry times (encode_symmetry.cpp). Sound because every plan has a
+  // symmetric image of equal objective in that order; so never with a model that fixes or hints
+  // at part of a plan (a history, a baseline, a warm start), where the image may be excluded:
+  // with `history` or `minimize_changes` it is left out whatever this says.
+  bool symmetry = true;
   // Relaxed runs: events before g may carry no transition (a part's events that another part
   // makes). Used only to prove lower bounds for the split (docs/encoding.md).
   bool idle_events = false;

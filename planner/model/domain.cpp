@@ -289,6 +289,10 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
 
 std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const ExpandOptions& options,
                                  Expansion* expansion) {
+  if (options.parameters.empty() && ObviouslyPlain(j)) {
+    if (expansion) *expansion = Expansion{j, {}, false};
+    return LoadPlainDomain(j, diags);
+  }
   auto x = ExpandTemplates(j, diags, options);
   if (!x) return std::nullopt;
   std::optional<Domain> d;

@@ -536,7 +536,27 @@ class Expander {
 
 }  // namespace
 
+namespace {
+
+// No "for" or "template" item and no brace in any string below `j`.
+bool NoTemplateSyntax(const Json& j) {
+  if (j.is_string()) return j.get_ref<const std::string&>().find_first_of("{}") == std::string::npos;
+  if (j.is_array()) return std::all_of(j.begin(), j.end(), NoTemplateSyntax);
+  if (!j.is_object()) return true;
+  if (j.contains("for") || j.contains("template")) return false;
+  return std::all_of(j.begin(), j.end(), NoTemplateSyntax);
+}
+
+}  // namespace
+
+bool ObviouslyPlain(const Json& doc) {
+  if (!doc.is_object() || doc.contains("parameters")) return false;
+  auto automata = doc.find("automata");
+  return automata == doc.end() || NoTemplateSyntax(*automata);
+}
+
 bool UsesTemplates(const Json& doc) {
+  if (ObviouslyPlain(doc)) return false;
   Diagnostics d;
   auto x = ExpandTemplates(doc, d);
   return !x || x->had_templates;

@@ -52,6 +52,11 @@ struct ExpandOptions {
 // True when the document uses "parameters", a template, a "for" item, or a placeholder.
 bool UsesTemplates(const Json& doc);
 
+// True when the document has no "parameters" and its automata no "for" or "template" item and no
+// brace in any string: it expands to itself (checked without expanding it; the expander's copy of
+// a large plain domain took half a second).
+bool ObviouslyPlain(const Json& doc);
+
 // Expands doc. On error returns nullopt with every problem in diags, at the document's pointers.
 std::optional<Expansion> ExpandTemplates(const Json& doc, Diagnostics& diags,
                                          const ExpandOptions& options = {});

@@ -210,7 +210,10 @@ std::optional<StatePlan> Remaining(const StatePlan& sp, const Situation& s, long
   if (!Evaluable(sp.goal)) return std::nullopt;
   StatePlan r = sp;
   const int p = s.history.events();
-  if (p == 0) return r;  // the original problem, its events from now on
+  // Nothing happened and now is 0: the original problem itself. With now > 0 a part whose
+  // condition held at stage 0 began at time 0, not at the origin: it is handled below like any
+  // begun part (taken as beginning at now, the bound would exceed plans that exist).
+  if (p == 0 && s.history.now == 0) return r;
   for (std::size_t a = 0; a < r.initial.size(); ++a) r.initial[a] = s.history.locations[a][p];
   const HistoryView h(s.history);
   const long tps = s.tps;

@@ -1,5 +1,6 @@
 #include "planner/replan/replan.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -86,13 +87,16 @@ Json Infeasible(Objective objective, const Json& conflicts, const Situation& s, 
             {"variables", 0}, {"solver_runs", 0}, {"history_events", s.history.events()}}}};
 }
 
-// keep "min_change": a second solve at the optimum's horizon, among plans at most as good as it,
-// for the fewest changes. Replaces the answer's plan when it finds one with fewer changes.
+// keep "min_change": a second solve, among plans at most as good as the optimum, for the fewest
+// changes, at the optimum's horizon or where the previous plan's future fits, whichever is more
+// (the first-plan engine's optimum may have fewer events than the previous plan). Replaces the
+// answer's plan when it finds one with fewer changes.
 void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, const Situation& s,
                      const SolveOptions& so, Objective objective, long time_left_ms, Json& ans) {
   if (!ans.contains("transitions") || !ans["horizon"].is_number_integer() || time_left_ms <= 0)
     return;
-  const int H = ans["horizon"].get<int>();
+  const int H = std::min(so.max_horizon, std::max(ans["horizon"].get<int>(),
+                                                  s.history.events() + s.previous_future_events));
   ProblemInfo info = Analyze(md, sp);
   info.time_offset = s.history.now;
   auto [cf, mf] = ObjectiveFactors(objective, info.TimeBound(H));

@@ -108,7 +108,8 @@ std::vector<Candidate> Expander::Candidates(const Node& n, const StageView& v) c
                  std::find(v.enabled[a].begin(), v.enabled[a].end(), ti) == v.enabled[a].end()) {
         continue;
       }
-      Candidate c{static_cast<int>(a), ti, std::max(n.time, n.entry[a] + Ticks(tr.duration.lo)),
+      Candidate c{static_cast<int>(a), ti,
+                  std::max({n.time, earliest_, n.entry[a] + Ticks(tr.duration.lo)}),
                   tr.duration.hi ? n.entry[a] + Ticks(*tr.duration.hi) : kInfinity};
       if (c.earliest <= c.latest) out.push_back(c);
     }
@@ -122,7 +123,7 @@ long Expander::DueTime(const Node& n, const StageView& v) const {
     for (int ti : v.enabled[a]) {
       const Transition& tr = d_.automata[a].transitions[ti];
       if (!tr.commanded && !tr.controllable)
-        due = std::min(due, std::max(n.time, n.entry[a] + Ticks(tr.duration.lo)));
+        due = std::min(due, std::max({n.time, earliest_, n.entry[a] + Ticks(tr.duration.lo)}));
     }
   return due;
 }
@@ -160,7 +161,7 @@ std::optional<Node> Expander::Apply(const Node& parent, const StageView& v,
                                     const std::vector<std::pair<int, int>>& chosen,
                                     long time) const {
   const std::size_t na = d_.automata.size();
-  if (time < parent.time) return std::nullopt;
+  if (time < parent.time || time < earliest_) return std::nullopt;
   std::vector<int> cmd(na, 0), pick(na, -1);
   std::vector<char> touched(na, 0);
   for (auto [a, ti] : chosen) {

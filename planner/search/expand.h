@@ -64,6 +64,13 @@ class Expander {
   // The run of no events; nullopt when stage 0 already breaks the state plan.
   std::optional<Node> Root() const;
 
+  // Replanning: no event after the start node may come before `t` (the history's now).
+  void SetEarliest(long t) { earliest_ = t; }
+  // A stage taken as reported (replanning's history, planner/search/history_nodes.h): only the
+  // state plan's monitors are updated at it, no rule of the model is checked. False when the run
+  // can no longer be valid.
+  bool Reported(const Node* prev, Node& n) const { return UpdateMonitors(prev, n); }
+
   StageView View(const Node& n) const;
   std::vector<Candidate> Candidates(const Node& n, const StageView& v) const;
   // The next time an automatic transition is due with no command given; kInfinity when none is.
@@ -98,6 +105,7 @@ class Expander {
   const Domain& d_;
   const StatePlan& sp_;
   long tps_;
+  long earliest_ = 0;
   std::string declined_;
   std::vector<std::vector<std::vector<int>>> out_;  // [automaton][location] -> transitions
   std::vector<std::vector<int>> readers_;           // automata whose guards read a's command

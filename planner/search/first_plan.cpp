@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "planner/search/expand.h"
+#include "planner/search/history_nodes.h"
 #include "planner/search/relaxed_plan.h"
 #include "planner/verify/verify.h"
 
@@ -51,22 +52,29 @@ class Search {
  public:
   Search(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o)
       : d_(d), sp_(sp), o_(o), tps_(std::lround(1.0 / d.time_resolution)), ex_(d, sp, tps_),
-        rp_(d, sp, o.objective, tps_), t0_(Clock::now()) {}
+        rp_(d, sp, o.objective, tps_), t0_(Clock::now()) {
+    if (o.history) ex_.SetEarliest(o.history->now);
+  }
 
   FirstPlanResult Run() {
     if (!ex_.Declined().empty()) {
       r_.declined = ex_.Declined();
       return r_;
     }
-    auto root = ex_.Root();
-    if (!root) return Finish(true);
-    pool_.push_back(std::move(*root));
-    seen_[ex_.Key(pool_[0])] = ValueOf(pool_[0]);
-    if (pool_[0].done) {
-      Offer(0);
+    if (o_.history && !o_.history->keep_next.empty()) {
+      r_.declined = "keep: started (transitions in progress must go on)";
+      return r_;
+    }
+    std::vector<Node> start = Start();
+    if (start.empty()) return Finish(true);
+    for (Node& n : start) pool_.push_back(std::move(n));
+    const int s = static_cast<int>(pool_.size()) - 1;
+    seen_[ex_.Key(pool_[s])] = ValueOf(pool_[s]);
+    if (pool_[s].done) {
+      Offer(s);
       return Finish(true);
     }
-    Push(0, 0, kMacro);
+    Push(s, 0, kMacro);
     while (!open_.empty()) {
       ++r_.expanded;
       if (OutOfTime()) return Finish(false);
@@ -96,6 +104,15 @@ class Search {
   bool OutOfTime() const {
     if (o_.cancel && o_.cancel->load()) return true;
     return ElapsedMs() >= deadline_ms_;
+  }
+
+  // The nodes the run begins with: the initial state, or the history's stages 0..p (the search
+  // goes on from the last one).
+  std::vector<Node> Start() const {
+    if (o_.history) return search::HistoryNodes(ex_, d_, *o_.history);
+    std::vector<Node> out;
+    if (auto root = ex_.Root()) out.push_back(std::move(*root));
+    return out;
   }
 
   Value ValueOf(const Node& n) const {
@@ -207,6 +224,7 @@ class Search {
     const std::size_t na = d_.automata.size();
     const int g = static_cast<int>(chain.size()) - 1;
     Trajectory t;
+    t.history = o_.history;
     t.goal_event = g;
     t.horizon = g;
     t.locations.assign(na, std::vector<int>(g + 1, 0));

@@ -18,13 +18,18 @@
 // g + h (the objective so far plus the estimate) and keeps only strictly better plans (anytime).
 // Not complete: it may find no plan where one exists.
 //
+// Replanning (FirstPlanOptions::history): the run begins with the history's stages, taken as
+// reported (planner/search/history_nodes.h), and the search plans the future from there, every
+// event at or after `now`; the plan returned is the whole run, history included.
+//
 // Declines (no plan, `declined` set) state plans whose conditions read commands or fixed stages,
-// and state plans with shared events.
+// state plans with shared events, and histories with keep "started" (History::keep_next).
 // Thread-safe: calls share nothing. Never throws.
 #pragma once
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -48,6 +53,9 @@ struct FirstPlanOptions {
   std::function<bool(long cost, long makespan_ticks)> good_enough;
   // Called with each strictly better verified plan, on the calling thread.
   std::function<void(const Trajectory&, long cost, long makespan_ticks)> on_plan;
+  // Replanning (planner/replan): the run begins with this history; null: from the initial state.
+  // The cost and makespan of a plan are the whole run's (the history's cost included).
+  std::shared_ptr<const History> history;
 };
 
 struct FirstPlanResult {

@@ -31,6 +31,8 @@ class Solver {
       for (const auto& f : o.history->fired)
         history_cost_ += d.automata[f.automaton].transitions[f.transition].cost;
     }
+    // Interchangeable automata, ordered in every Gecode model (never after a fixed history).
+    if (o.symmetry && !o.history) info_.symmetries = FindSymmetries(d, sp);
     if (best_) {
       horizon_ = best_->traj.goal_event;
       found_by_ = "heuristic";
@@ -178,6 +180,7 @@ class Solver {
       eo.objective = objective_;
       eo.search = ModelStrategy(*members[i].engine);
       eo.redundant = o_.redundant;
+      eo.symmetry = o_.symmetry;
       eo.better_than = BetterThan(h, better);
       eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;

@@ -27,6 +27,7 @@ std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, con
   fo.time_limit_ms = budget;
   fo.max_events = max_events;
   fo.cancel = o.cancel;
+  fo.history = o.history;  // replanning: the plan is the whole run, the history included
   fo.good_enough = [&](long cost, long makespan) {
     return MeetsLowerBounds(bounds, objective, cost, makespan);
   };

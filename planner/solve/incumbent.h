@@ -16,7 +16,9 @@ long FirstPlanBudgetMs(const SolveOptions& o);
 // Runs the engine for its budget; returns its best verified plan with at most max_events events
 // and records what it did in stats["first_plan"] (ms, expanded, found, declined). `found_ms` is
 // the time (since t0) the returned plan was found.
-// `bounds` (LowerBounds(d, sp)) stops the search at a plan that meets them.
+// `bounds` (LowerBounds(d, sp), or with a history SolveOptions::bounds, valid given it) stops
+// the search at a plan that meets them. With o.history the engine starts from the history and
+// its plans carry it (the verifier checks them as it checks the exact engines').
 std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, const SolveOptions& o,
                                        Objective objective, int max_events,
                                        const ObjectiveBounds& bounds, Clock::time_point t0,

@@ -32,7 +32,12 @@ void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, 
   eo.horizon = std::max(1, horizon);
   eo.objective = objective;
   eo.redundant = o.redundant;
-  Encoding enc = Encode(d, sp, Analyze(d, sp), eo);
+  eo.symmetry = o.symmetry;
+  eo.history = o.history.get();
+  ProblemInfo info = Analyze(d, sp);
+  if (o.symmetry && !o.history) info.symmetries = FindSymmetries(d, sp);
+  if (o.history) info.time_offset = o.history->now;  // as the horizon search's models
+  Encoding enc = Encode(d, sp, info, eo);
   std::ofstream(o.model_out) << enc.model;
   std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
 }
@@ -190,9 +195,10 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   long found_ms = -1;
   std::optional<solve::Plan> incumbent;
   bool meets_bound = false;
-  // Replanning (o.history) fixes a past the engine does not model: the exact engines alone.
-  if (!o.idle_events && !o.history && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
-    const ObjectiveBounds bounds = LowerBounds(d, sp);
+  // Replanning (o.history): the engine starts from the history; the bounds are those valid given
+  // it (o.bounds), so a plan that meets them is optimal for the future as for the exact engines.
+  if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
+    const ObjectiveBounds bounds = o.bounds ? *o.bounds : LowerBounds(d, sp);
     incumbent = solve::FirstPlanIncumbent(d, sp, o, objective, max_h, bounds, t0, stats, found_ms);
     meets_bound = incumbent &&
                   MeetsLowerBounds(bounds, objective, incumbent->cost, incumbent->makespan);
@@ -206,7 +212,7 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     c.engine = c.found_by = "heuristic";
     c.proved_by = "lower bound";
     WriteModelOut(d, sp, o, objective, c.horizon);
-    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver);
+    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);

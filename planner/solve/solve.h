@@ -37,6 +37,9 @@ struct SolveOptions {
   bool decompose = true;               // solve independent parts separately and merge
   bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
   bool redundant = true;               // the encoder's redundant constraints (bench only)
+  // Interchangeable automata (analyze/symmetry.h) ordered in the Gecode models (EncodeOptions::
+  // symmetry); never with a history. Off only to measure it or to check it (tests, bench/).
+  bool symmetry = true;
   // "portfolio" runs the first `portfolio` of g_first, tc_first (Gecode) and z3 at once (one
   // core each) and keeps the first proof; or one strategy: g_first, tc_first, first_fail,
   // transitions_first, default (Gecode's own), or z3 (the z3 engine alone, planner/smt).
@@ -61,7 +64,8 @@ struct SolveOptions {
   std::function<void(const Json& progress)> on_progress;
   // Replanning (planner/replan): the run begins with this fixed history (the encoder's and the
   // verifier's `history`), and `bounds`, valid given it, replace those computed from the initial
-  // state. Gecode only (the z3 engine has no history); no static analysis or split applies.
+  // state. The first-plan engine starts from the history (but declines keep "started"); of the
+  // exact engines Gecode only (z3 has no history); no static analysis or split applies.
   std::shared_ptr<const History> history;
   std::optional<ObjectiveBounds> bounds;
   // Where horizon growth starts when larger than the event bound (replanning: the previous

@@ -174,6 +174,19 @@ function diffBlock(t, previousGoal) {
   }
 }
 
+// What the LLM read in a fault reported in words (a /replan answer's `report`): its restatement,
+// then the facts the replan took from it.
+function reportBlock(r) {
+  const box = el("div", { class: "report", role: "note", "aria-label": "The report, as understood" });
+  box.appendChild(el("p", { class: "report-restatement" }, `Understood: “${r.restatement || r.command}”`));
+  const facts = el("ul", { class: "report-facts" });
+  for (const b of r.blocked || []) facts.appendChild(el("li", {}, `${b.automaton}: ${b.from} → ${b.to} blocked`));
+  for (const [a, o] of Object.entries(r.observed || {}))
+    facts.appendChild(el("li", {}, `${a} observed in ${o.location}` + (typeof o.since === "number" ? ` since ${clock(o.since)}` : "")));
+  if (facts.children.length) box.appendChild(facts);
+  return box;
+}
+
 // Draws `data` (a /plan answer) into `into`. ctx: {domainInfo, followUp(command), execution?}
 // (execution: execute.js's context; without it the plan cannot be executed from this turn).
 export function renderAnswer(into, data, ctx) {
@@ -192,6 +205,7 @@ export function renderAnswer(into, data, ctx) {
       (s.parts ? ` · ${s.parts} independent parts` : "") +
       (typeof t.now === "number" ? ` · replanned from ${clock(t.now)}` : "")));
   }
+  if (t.report) into.appendChild(reportBlock(t.report));
   if (warnings.length) {
     const w = el("ul", { class: "warnings", "aria-label": "Warnings" });
     for (const x of warnings) w.appendChild(el("li", {}, (x.path ? `${x.path}: ` : "") + x.message));

@@ -24,6 +24,7 @@ const state = {
   domainCache: {},
   busy: null,          // {controller} while a request runs
   pendingNote: "",     // said on the next dialogue's separator (why it is new)
+  words: false,        // an LLM answers (endpoint or replay): faults may be reported in words
 };
 
 // One short sentence for screen readers (the live region), instead of reading whole answers or
@@ -214,7 +215,7 @@ async function send(command, { fresh = false } = {}) {
 
 // What execute.js needs from the page to execute `data` (an answer drawn in `turn`).
 function executionContext(turn, data, carry) {
-  return { announce, carry, replan: (body, meta) => replanFrom(turn, data, body, meta) };
+  return { announce, carry, words: state.words, replan: (body, meta) => replanFrom(turn, data, body, meta) };
 }
 
 // A fault reported while `data` (drawn in `fromTurn`) was executed: POST /replan (streamed, like
@@ -249,6 +250,10 @@ async function replanFrom(fromTurn, data, body, meta) {
   }
   const t = result.data;
   progress.finish("replanned");
+  // A report in words: what the LLM read in it is blocked from now on, like a move reported failed.
+  for (const b of t.report?.blocked || [])
+    if (!meta.carry.blocked.some((x) => x.automaton === b.automaton && x.from === b.from && x.to === b.to))
+      meta.carry.blocked.push({ automaton: b.automaton, from: b.from, to: b.to });
   const answer = { trajectory: t, state_plan: data.state_plan, previous_goal: data.trajectory?.goal_reached_at };
   if (t.session) answer.session = t.session;
   renderAnswer(turn, answer, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c),
@@ -355,6 +360,7 @@ async function init() {
   for (const d of domains.domains) $("domain").appendChild(domainOption(d));
   const preferred = examples.default_domain;
   if ([...$("domain").options].some((o) => o.value === preferred)) $("domain").value = preferred;
+  state.words = info?.llm?.mode === "endpoint" || info?.llm?.mode === "replay";
   $("examples-note").textContent = info?.llm?.mode === "recordings" ? "(answered offline from recordings)" : "";
   let dismissed = false;
   try { dismissed = localStorage.getItem(NOTICE_KEY) === "1"; } catch { /* storage disabled */ }

@@ -8,7 +8,9 @@
 //                       replanned from now at once;
 //   "This took longer"  the stay ends N s late: its automaton's next move is held until then,
 //                       reported as happening then, and the future is replanned at that time
-//                       (as `ctburton execute --fault delay:...` does).
+//                       (as `ctburton execute --fault delay:...` does);
+//   "Or say what happened" (when the server has an LLM) anything else, in words: the replan
+//                       sends it as `command` and the LLM reads it into observed/blocked.
 // A replan is a POST /replan through ctx.replan (app.js) with the history dispatched so far
 // (`executed`), every move reported blocked and the plan being executed; its answer becomes a
 // new turn, whose diff shows the new future against the old one, and the execution goes on
@@ -45,7 +47,8 @@ function defaultDelay(span) {
 
 // Adds the execution control below `chart` (renderTimeline's answer) in `into`. ctx: {replan(body,
 // meta) -> Promise<bool> (true: the replanned answer can be executed), announce(text), carry (the
-// state a replan hands over: now, executed, blocked, holds, speed, running)}.
+// state a replan hands over: now, executed, blocked, holds, speed, running), words (true: an LLM
+// answers, so the report box offers a report in words)}.
 export function attachExecution(into, t, chart, ctx) {
   const carry = ctx.carry || {};
   const start = carry.now ?? t.now ?? 0;
@@ -262,6 +265,7 @@ export function attachExecution(into, t, chart, ctx) {
     }
     if (!target.move && !target.stay)
       node.appendChild(el("p", { class: "fault-none" }, "Nothing left to report here: this part is executed, or ends the plan."));
+    if (ctx.words) node.appendChild(wordsRow(a, wasRunning));
     close.addEventListener("click", () => closeReport(wasRunning));
     node.addEventListener("keydown", (e) => {
       if (e.key === "Escape") { e.stopPropagation(); closeReport(wasRunning); }
@@ -275,6 +279,25 @@ export function attachExecution(into, t, chart, ctx) {
     node.style.top = `${Math.max(0, anchor.y - hb.top + 12)}px`;
     ex.box = { node, wasRunning, returnFocus };
     (node.querySelector(".fault-fail, .fault-late") || close).focus();
+  }
+
+  // Anything else, in words ("the door took two minutes to open"): the server's LLM reads it into
+  // observed locations and blocked moves (POST /replan with `command`), checked like a request.
+  function wordsRow(a, wasRunning) {
+    const form = el("form", { class: "fault-action fault-words-row" });
+    const input = el("input", { type: "text", class: "fault-words", maxlength: "2000",
+      placeholder: `e.g. ${a} is stuck`, "aria-label": "What happened, in words" });
+    const tell = el("button", { type: "submit", class: "fault-tell" }, "Tell");
+    form.append(el("span", { class: "fault-what" }, "Or say what happened: "), input, tell);
+    form.addEventListener("submit", (e) => {
+      e.preventDefault();
+      const text = input.value.trim();
+      if (!text) { input.focus(); return; }
+      closeReport();
+      addLog(ex.now, `FAULT (in words): ${text}`, "exec-log-fault");
+      replan(`“${text}”`, wasRunning, { command: text });
+    });
+    return form;
   }
 
   function moveFailed(tr, wasRunning) {
@@ -306,7 +329,7 @@ export function attachExecution(into, t, chart, ctx) {
   }
 
   // `resume`: the clock ran before the fault, so it runs on in the replanned plan.
-  async function replan(reason, resume) {
+  async function replan(reason, resume, extra = {}) {
     pause(null);
     ex.busy = true;
     toggle.disabled = true;
@@ -315,7 +338,7 @@ export function attachExecution(into, t, chart, ctx) {
     setNow(now);
     say(`Replanning from ${clock(now)}…`, true);
     const body = { now, executed: ex.executed, blocked: ex.blocked,
-      trajectory: { events: t.events, transitions: t.transitions } };
+      trajectory: { events: t.events, transitions: t.transitions }, ...extra };
     if (t.objective?.kind) body.options = { objective: t.objective.kind };
     const carry = { now, executed: [...ex.executed], blocked: [...ex.blocked], holds: ex.holds.map((h) => ({ ...h })),
       speed: ex.speed, running: !!resume, started: true };

@@ -1,4 +1,4 @@
-// End-to-end, the team panel (issue 22): the real `ctburton serve` with a loopback mock LLM (a
+// End-to-end, the team panel (issue 22) and a fault reported in words (issue 21): the real `ctburton serve` with a loopback mock LLM (a
 // small HTTP server here that answers drafts with the recorded draft and commands with a state
 // plan for the drone team), the page in Debian's headless Chromium. A user opens the panel and
 // sees the diagram, pastes a team with an error and sees it marked at its place, fixes it, saves
@@ -31,6 +31,10 @@ const plan = {
   constraints: { episodes: {}, temporal: {}, event: {} },
 };
 
+// What the mock reads in a fault reported in words (issue 21): drone 2 cannot fly to B.
+const report = { blocked: [{ automaton: "drone2", from: "airborne", to: "flyingToB" }],
+                 restatement: "Drone 2 cannot fly to B." };
+
 // The mock LLM: OpenAI chat completions on loopback.
 const prompts = [];
 const llm = http.createServer((req, res) => {
@@ -40,7 +44,8 @@ const llm = http.createServer((req, res) => {
     const msgs = JSON.parse(body).messages || [];
     const text = msgs.map((m) => m.content).join("\n");
     prompts.push(text);
-    const content = /Describe|Description of the team/.test(text) ? draftAnswer : JSON.stringify(plan);
+    const content = /Describe|Description of the team/.test(text) ? draftAnswer
+      : /operator reports in words/.test(text) ? JSON.stringify(report) : JSON.stringify(plan);
     res.setHeader("Content-Type", "application/json");
     res.end(JSON.stringify({ id: "mock", object: "chat.completion", model: "mock",
       choices: [{ index: 0, finish_reason: "stop", message: { role: "assistant", content } }] }));
@@ -134,6 +139,31 @@ try {
   check("its chart has a row per drone and the door",
         ["drone1", "drone2", "hangarDoor"].every((r) => rows.includes(r)), JSON.stringify(rows));
   check("the prompt described the new team", prompts.some((p) => p.includes("hangarDoor") && p.includes("drone 1 to A")));
+
+  // Executing it, a fault reported in words from drone 2's row: the LLM reads it into a blocked
+  // move, the replan says what it understood, and drone 2 can no longer reach B.
+  const replans = [];
+  page.on("request", (r) => { if (r.method() === "POST" && r.url().endsWith("/replan")) replans.push(JSON.parse(r.postData())); });
+  await turn.locator(".exec-toggle").click();
+  await sleep(300);
+  await turn.locator(".exec-toggle").click();
+  await turn.locator('svg.timeline .rowpick[data-automaton="drone2"]').click();
+  const box = turn.locator(".fault-box");
+  check("with an LLM, the report box offers words", await box.locator(".fault-words").isVisible());
+  await box.locator(".fault-words").fill("drone 2's flight to B failed");
+  await page.screenshot({ path: `${out}/domains-fault-words.png` });
+  await box.locator(".fault-tell").click();
+  const replanned = page.locator(".turn.replan-turn").last();
+  await replanned.locator(".summary, .error").first().waitFor({ timeout: 120000 });
+  check("the replan sent the words as command", replans.length === 1 && replans[0].command === "drone 2's flight to B failed" &&
+        typeof replans[0].now === "number", JSON.stringify(replans));
+  check("the LLM was asked with the report", prompts.some((p) => /operator reports in words/.test(p) && p.includes("drone 2's flight to B failed")));
+  const understood = await replanned.locator(".report").textContent().catch(() => "");
+  check("the replanned turn says what was understood", /Drone 2 cannot fly to B/.test(understood) &&
+        /drone2: airborne → flyingToB blocked/.test(understood), understood);
+  check("without that move drone 2 cannot reach B", /infeasible/.test(await replanned.locator(".summary").textContent()));
+  await replanned.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/domains-replanned-words.png` });
 
   // A draft from words: into the editor, with what the LLM understood and left open.
   await page.click("#team-drafting summary");

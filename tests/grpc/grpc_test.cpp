@@ -291,7 +291,8 @@ TEST(Grpc, DomainsAreCreatedReadDrawnUsedAndDeleted) {
   q.mutable_options()->set_objective("makespan");
   grpc::ClientContext c8;
   pb::PlanResult r;
-  ASSERT_TRUE(s.stub->Solve(&c8, q, &r).ok());
+  auto solved = s.stub->Solve(&c8, q, &r);
+  ASSERT_TRUE(solved.ok()) << solved.error_message();
   EXPECT_EQ(r.status(), pb::SOLVED_OPTIMALLY);
   EXPECT_EQ(r.trajectory().goal_reached_at(), 28);
   // Replaced with four drones; a shipped domain stays.

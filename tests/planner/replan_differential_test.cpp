@@ -2,8 +2,9 @@
 // plan, random departures (a blocked transition, an observation, a transition that did not
 // happen). Every answer's history + future, rebuilt from the answer's JSON alone, must pass the
 // independent verifier against the state plan with the blocked transitions removed; the
-// prechecks must agree with the solver; and for tiny cases an enumeration of every future with at
-// most 2 events confirms the future's optimum.
+// prechecks and the first-plan engine (both on by default) must agree with the exact engines
+// alone; and for tiny cases an enumeration of every future with at most 2 events confirms the
+// future's optimum.
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -63,7 +64,8 @@ std::optional<Trajectory> FromAnswer(const Json& ans, const Domain& d, const Sta
       const int from = au.LocationIndex(tr["from"]), to = au.LocationIndex(tr["to"]);
       if (tr.value("observed", false)) {
         h->jumps.push_back({k, a, from, to});
-        if (from != to) entry[a] = since.count(a) ? since.at(a) : now;
+        // An observation with `since` sets the clock, also where the automaton already was.
+        if (from != to || since.count(a)) entry[a] = since.count(a) ? since.at(a) : now;
         loc[a] = to;
         continue;
       }
@@ -231,7 +233,7 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
   shape.max_locations = 3;
   shape.max_duration = 2;
   shape.max_bound = 3;
-  int checked = 0, plans = 0, infeasible = 0, brute = 0;
+  int checked = 0, plans = 0, infeasible = 0, brute = 0, heuristic = 0;
   for (unsigned seed = 2100; seed < 2160; ++seed) {
     testing::ProblemGenerator gen(seed, shape);
     testing::RandomProblem prob = gen.Next();
@@ -279,9 +281,11 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << what;
     const Json ans = std::get<Json>(r);
     ++checked;
-    // The prechecks agree with the solver.
+    // The prechecks and the first-plan engine agree with the exact engines alone.
     o.precheck = false;
+    o.solve.first_plan_ms = 0;
     auto r2 = Replan(*d, *sp, req, o);
+    o.solve.first_plan_ms = -1;
     ASSERT_TRUE(std::holds_alternative<Json>(r2)) << what;
     EXPECT_EQ(std::get<Json>(r2)["status"], ans["status"]) << what;
     EXPECT_EQ(std::get<Json>(r2)["objective"]["value"], ans["objective"]["value"]) << what;
@@ -292,6 +296,7 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
     }
     ASSERT_EQ(ans["status"], "optimal") << ans.dump() << what;
     ++plans;
+    heuristic += ans["stats"]["found_by"] == "heuristic" ? 1 : 0;
     const Domain model = WithoutBlocked(*d, body.value("blocked", Json::array()));
     auto traj = FromAnswer(ans, model, *sp, since, now);
     ASSERT_TRUE(traj) << "cannot rebuild the run: " << ans.dump() << what;
@@ -323,8 +328,9 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
   EXPECT_GE(checked, 30);
   EXPECT_GE(plans, 15);
   EXPECT_GE(brute, 5);
-  std::printf("replanned %d problems: %d plans, %d infeasible, %d checked by enumeration\n",
-              checked, plans, infeasible, brute);
+  EXPECT_GE(heuristic, plans / 3);  // the first-plan engine answers from the history
+  std::printf("replanned %d problems: %d plans (%d found by the first-plan engine), %d infeasible, "
+              "%d checked by enumeration\n", checked, plans, heuristic, infeasible, brute);
 }
 
 }  // namespace

@@ -241,6 +241,75 @@ TEST(ReplanAssembly, BlockOnTheFloorInsteadOfItsTarget) {
   EXPECT_GE(Time(re, "blockB", "onA"), 4);
 }
 
+// The first-plan engine starts from the history: along the optimal plan with nothing departing
+// its future meets the bound valid given the history, so no model is built at all; the answer is
+// the exact engines' (first_plan_ms = 0) in status and objective. The same for robot 1 unable to
+// open door 1 (12), whose plan the exact engines reach only through larger horizons.
+TEST(ReplanEngine, TheFirstPlanEngineAnswersFromTheHistory) {
+  Problem p = Load("search_rescue", "search_rescue/test2.json");
+  Json plan = MustSolve(p, Objective::kMakespan);
+  const Json along = {{"now", 2}, {"trajectory", plan}};
+  const Json at_door = {{"now", 1}, {"executed", Json::parse(kRobot1At1)}, {"blocked", Json::parse(R"([
+      {"automaton": "robot1", "from": "atDoor1", "to": "door1Opening"}])")}};
+  for (const auto& [body, optimum] : {std::pair{along, 11}, std::pair{at_door, 12}}) {
+    SCOPED_TRACE(body.dump());
+    Json re = MustReplan(p, body, Objective::kMakespan);
+    ASSERT_EQ(re["status"], "optimal") << re.dump();
+    EXPECT_EQ(re["objective"]["value"], optimum);
+    EXPECT_EQ(re["stats"]["found_by"], "heuristic") << re["stats"].dump();
+    EXPECT_EQ(re["stats"]["proved_by"], "lower bound") << re["stats"].dump();
+    EXPECT_EQ(re["stats"]["solver_runs"], 0);
+    EXPECT_TRUE(re["verified"].get<bool>());
+    ReplanRequest req;
+    ASSERT_FALSE(ReadReplanRequest(body, req, nullptr));
+    ReplanOptions o;
+    o.solve.objective = Objective::kMakespan;
+    o.solve.first_plan_ms = 0;
+    auto exact = Replan(*p.d, p.sp, req, o);
+    ASSERT_TRUE(std::holds_alternative<Json>(exact));
+    EXPECT_EQ(std::get<Json>(exact)["status"], "optimal");
+    EXPECT_EQ(std::get<Json>(exact)["objective"]["value"], optimum);
+    EXPECT_GT(std::get<Json>(exact)["stats"]["solver_runs"].get<int>(), 0);
+  }
+}
+
+// Nothing has happened by now = 2, but episode E1 began at event 0 (a starts in aL1): it must
+// end at exactly 2, and the optimum from scratch (4: b to bL1 at 2, a back to aL0 and b to bL0
+// at 2, a to aL1 at 4) is still possible. The lower bound given the history once took the whole
+// problem's bound (4) shifted to now (6); the exact engines, which add the bound as a constraint,
+// then answered "optimal" at 6. Exact engines alone here (first_plan_ms = 0).
+TEST(ReplanBounds, APartBegunAtStageZeroKeepsItsStartWhenNothingHappened) {
+  Diagnostics diags;
+  auto d = LoadDomain(Json::parse(R"({"name": "random", "description": "generated", "automata": [
+    {"name": "a", "commands": ["aC0"], "locations": ["aL0", "aL1"], "transitions": [
+      {"from": "aL0", "to": "aL1", "guard": "au[i]==aC0", "duration": [2, null], "cost": 3},
+      {"from": "aL1", "to": "aL0", "guard": "bl[i]==bL1", "duration": [1, 4]}]},
+    {"name": "b", "commands": ["bC0", "bC1"], "locations": ["bL0", "bL1"], "transitions": [
+      {"from": "bL0", "to": "bL1", "guard": "bu[i]==bC0", "cost": 2},
+      {"from": "bL1", "to": "bL0", "guard": "bu[i]==bC1", "duration": [0, 3]}]}]})"), diags);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  auto sp = LoadStatePlan(Json::parse(R"({"initial_state": {"a": "aL1", "b": "bL0"},
+    "end_state": {"goal_constraint": "bl[i+1]==bL0", "maintenance_constraint": "true"},
+    "constraints": {"event": {},
+      "episodes": {
+        "E0": {"accepting_constraint": "bl[i]==bL1", "state_constraint": "bl[i]==bL1", "lower_bound": 0, "upper_bound": 2},
+        "E1": {"accepting_constraint": "al[i]==aL1", "state_constraint": "al[i]==aL1", "lower_bound": 2, "upper_bound": 2}},
+      "temporal": {"T0": {"accepting_event1_constraint": "al[i]==aL0 /\\ al[i+1]==aL1",
+                          "accepting_event2_constraint": "al[i+1]==aL0", "lower_bound": 2, "upper_bound": 2}}},
+    "objective": "makespan"})"), *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  ReplanRequest req;
+  ASSERT_FALSE(ReadReplanRequest({{"now", 2}, {"executed", Json::array()}}, req, nullptr));
+  ReplanOptions o;
+  o.solve.first_plan_ms = 0;
+  o.solve.max_horizon = 6;
+  auto r = Replan(*d, *sp, req, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(r));
+  const Json& re = std::get<Json>(r);
+  ASSERT_EQ(re["status"], "optimal") << re.dump();
+  EXPECT_EQ(re["objective"]["value"], 4);
+}
+
 TEST(ReplanErrors, LocatedByPointers) {
   Problem p = Load("search_rescue", "search_rescue/test2.json");
   auto bad = [&](const Json& body, const std::string& pointer) {
