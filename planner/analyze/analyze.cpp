@@ -8,6 +8,7 @@
 
 #include "planner/analyze/abstraction.h"
 #include "planner/analyze/time_network.h"
+#include "planner/analyze/zone_reach.h"
 #include "planner/model/error.h"
 
 namespace ctb {
@@ -69,7 +70,7 @@ std::string WhyNever(const Domain& d, const Abstraction& ab, const Condition& c,
 
 class Checker {
  public:
-  Checker(const Domain& d, const StatePlan& sp) : d_(d), sp_(sp) {}
+  Checker(const Domain& d, const StatePlan& sp, const AnalysisOptions& o) : d_(d), sp_(sp), o_(o) {}
 
   std::vector<StaticConflict> Run() {
     Abstraction plain = Build(d_, sp_, nullptr);
@@ -89,6 +90,9 @@ class Checker {
       Singles(m, &allowed, sp_.maintenance.pointer);
       Network(m, sp_.maintenance.pointer);
     }
+    if (out_.empty() && o_.zones) Zones();
+    if (o_.zones)
+      for (auto& c : out_) Sharpen(c);
     return std::move(out_);
   }
 
@@ -111,11 +115,37 @@ class Checker {
 
   // The time network's conflict (time_network.h), when there is one.
   void Network(const Abstraction& ab, const std::string& maint) {
+    if (!o_.time_network) return;
     auto tc = FindTimeConflict(d_, sp_, ab, maint);
     if (!tc) return;
     StaticConflict c{"time_network", tc->parts, tc->text, std::nullopt, tc->hints};
     if (!c.hints.empty()) c.hint = c.hints.front();
     Add(std::move(c), true);
+  }
+
+  // The zone search's conflict (zone_reach.h): the runs themselves, for what the abstraction
+  // above cannot see (events no part names, transitions an automaton must take).
+  void Zones() {
+    auto z = FindZoneConflict(d_, sp_, o_.clocks_at_zero);
+    if (!z) return;
+    StaticConflict c{"zones", z->parts, z->text, std::nullopt, z->hints};
+    if (!c.hints.empty()) c.hint = c.hints.front();
+    Add(std::move(c), true);
+  }
+
+  // A hint of the other checks may be below the least value that works (the time network sees
+  // only the state plan's events); the zone search's, on the same parts, replaces it when higher.
+  void Sharpen(StaticConflict& c) const {
+    if (c.kind == "zones" || c.hints.empty()) return;
+    for (const BoundHint& z : FindZoneHints(d_, sp_, c.parts, o_.clocks_at_zero))
+      for (BoundHint& h : c.hints) {
+        if (h.pointer != z.pointer) continue;
+        const bool upper = h.pointer.ends_with("/upper_bound");
+        h.value = upper ? std::max(h.value, z.value) : std::min(h.value, z.value);
+      }
+    if (c.hint)
+      for (const BoundHint& h : c.hints)
+        if (h.pointer == c.hint->pointer) c.hint = h;
   }
 
   // Adds c when `found`, unless a conflict already found uses a subset of its parts.
@@ -270,21 +300,24 @@ class Checker {
 
   const Domain& d_;
   const StatePlan& sp_;
+  const AnalysisOptions o_;
   std::vector<StaticConflict> out_;
 };
 
 }  // namespace
 
-std::vector<StaticConflict> FindStaticConflicts(const Domain& d, const StatePlan& sp) {
-  auto out = Checker(d, sp).Run();
+std::vector<StaticConflict> FindStaticConflicts(const Domain& d, const StatePlan& sp,
+                                                const AnalysisOptions& o) {
+  auto out = Checker(d, sp, o).Run();
   std::stable_sort(out.begin(), out.end(), [](const StaticConflict& a, const StaticConflict& b) {
     return a.parts.size() < b.parts.size();
   });
   return out;
 }
 
-std::optional<StaticConflict> FindStaticConflict(const Domain& d, const StatePlan& sp) {
-  auto all = FindStaticConflicts(d, sp);
+std::optional<StaticConflict> FindStaticConflict(const Domain& d, const StatePlan& sp,
+                                                 const AnalysisOptions& o) {
+  auto all = FindStaticConflicts(d, sp, o);
   if (all.empty()) return std::nullopt;
   return all.front();
 }

@@ -37,7 +37,9 @@ struct StaticConflict {
   //   location not reachable from the initial state, an episode whose state constraint
   //   contradicts its accepting constraint), possibly because of the maintenance constraint;
   // "deadline": a temporal constraint's upper bound below the least time its two events can be
-  //   apart; "shared_event": endpoints that must fall on one event but cannot.
+  //   apart; "shared_event": endpoints that must fall on one event but cannot; "time_network":
+  //   the state plan's events as a temporal network (time_network.h); "zones": no run of the
+  //   automata and the state plan's accepting automata reaches the end state (zone_reach.h).
   std::string kind;
   std::vector<std::string> parts;  // JSON pointers of state-plan parts, a minimal set
   std::string text;                // one plain sentence
@@ -47,12 +49,24 @@ struct StaticConflict {
   // "any_horizon": every check here holds whatever the number of events.
 };
 
+// Which checks run (all by default; tests turn routes off to check each alone).
+struct AnalysisOptions {
+  // Every automaton entered its initial location at e[0] (a new plan); false for a run under
+  // way (replanning), whose clocks the state plan does not give.
+  bool clocks_at_zero = true;
+  bool time_network = true;  // time_network.h
+  bool zones = true;         // zone_reach.h, when the other checks find nothing
+};
+
 // Every conflict the checks find, smallest sets first (parts of one conflict are not repeated
-// as a larger one). Empty when none is found. Runs in milliseconds on the shipped domains.
-std::vector<StaticConflict> FindStaticConflicts(const Domain& d, const StatePlan& sp);
+// as a larger one). Empty when none is found. Runs in milliseconds on the shipped domains; the
+// zone search stops after 100 ms.
+std::vector<StaticConflict> FindStaticConflicts(const Domain& d, const StatePlan& sp,
+                                                const AnalysisOptions& o = {});
 
 // The first of FindStaticConflicts, or nullopt.
-std::optional<StaticConflict> FindStaticConflict(const Domain& d, const StatePlan& sp);
+std::optional<StaticConflict> FindStaticConflict(const Domain& d, const StatePlan& sp,
+                                                 const AnalysisOptions& o = {});
 
 // The least time (seconds) between entering location `from` and entering location `to` of
 // automaton a over transitions usable from the initial state; nullopt when `to` cannot follow

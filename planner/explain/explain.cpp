@@ -113,10 +113,16 @@ class Explainer {
     for (const auto& e : sp.events) parts_.push_back("/constraints/event/" + e.name);
   }
 
+  // Static analysis of a plan, unless the caller turned it off (then every proof is a solver's).
+  std::optional<StaticConflict> Static(const StatePlan& sp) const {
+    if (!so_.static_analysis) return std::nullopt;
+    return FindStaticConflict(d_, sp);
+  }
+
   Json Run() {
     const auto t0 = Clock::now();
     Json out = {{"conflicts", Json::array()}, {"relaxations", Json::array()}};
-    std::optional<StaticConflict> stat = FindStaticConflict(d_, sp_);
+    std::optional<StaticConflict> stat = Static(sp_);
     std::vector<std::string> set = stat ? stat->parts : parts_;
     bool from_static = stat.has_value();
     bool proven = true;
@@ -258,7 +264,7 @@ class Explainer {
       Diagnostics dg;
       auto sp = LoadStatePlan(Only(ptrs), d_, dg);
       if (!sp) return std::nullopt;
-      auto c = FindStaticConflict(d_, *sp);
+      auto c = Static(*sp);
       if (!c) return std::nullopt;
       return indices(c->parts);
     };
@@ -358,7 +364,7 @@ class Explainer {
     Diagnostics diags;
     auto sp = LoadStatePlan(j, d_, diags);
     if (!sp) return Verdict::kCannotDrop;  // a part others name: cannot be dropped alone
-    if (FindStaticConflict(d_, *sp)) return Verdict::kInfeasible;
+    if (Static(*sp)) return Verdict::kInfeasible;
     long left = Remaining();
     if (left < 50 || (so_.cancel && so_.cancel->load())) return Verdict::kUnknown;
     SolveOptions o = so_;

@@ -13,7 +13,7 @@
 // time, a deletion filter over solver calls on reduced state plans goes on from the core
 // reached. Before either, a quick pass checks each set without one part with a short limit
 // (plans come fast, proofs do not). Static analysis is tried on every reduced plan before a
-// solver. Dropping a part means: a goal or maintenance constraint becomes `true`; an episode or
+// solver (none at all when the SolveOptions turn `static_analysis` off). Dropping a part means: a goal or maintenance constraint becomes `true`; an episode or
 // temporal constraint is removed with its endpoints in shared events (a shared event left with
 // fewer than two endpoints goes too). A part that other parts' conditions name cannot be
 // dropped alone and stays in the set.

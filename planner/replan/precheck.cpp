@@ -298,7 +298,7 @@ std::optional<Json> GoalCutOff(const Domain& d, const StatePlan& sp, const Situa
   auto r = GoalOnly(sp, s);
   if (!r) return std::nullopt;
   auto conflict = [&](const Domain& dom) {
-    for (const auto& c : FindStaticConflicts(dom, *r))
+    for (const auto& c : FindStaticConflicts(dom, *r, AnalysisOptions{.clocks_at_zero = false}))
       if (std::find(c.parts.begin(), c.parts.end(), sp.goal.pointer) != c.parts.end()) return true;
     return false;
   };

@@ -111,8 +111,10 @@ int CheckRange(unsigned first, int count) {
 // location forbidden by the maintenance constraint (random_problem.h). The loosest variant that
 // static analysis refutes (one unit past the last it allows) and every refuted maintenance must
 // be infeasible for the solvers too, each route alone: Gecode with no static analysis, z3 with
-// none. Returns how many static proofs were checked.
-int CheckNearMisses(unsigned first, int count, std::map<std::string, int>& kinds) {
+// none. Returns how many static proofs were checked. `routes` chooses the proof routes (each
+// alone: the zone search proves most of what the others prove, and would hide them).
+int CheckNearMisses(unsigned first, int count, std::map<std::string, int>& kinds,
+                    const AnalysisOptions& routes) {
   int checked = 0;
   for (unsigned seed = first; seed < first + static_cast<unsigned>(count); ++seed) {
     testing::ProblemGenerator gen(seed);
@@ -121,13 +123,13 @@ int CheckNearMisses(unsigned first, int count, std::map<std::string, int>& kinds
     auto d = LoadDomain(p.domain, diags);
     if (!d) continue;
     auto base = LoadStatePlan(p.state_plan, *d, diags);
-    if (!base || FindStaticConflict(*d, *base)) continue;  // the plain case is the others' job
+    if (!base || FindStaticConflict(*d, *base, routes)) continue;  // the plain case is the others' job
     std::set<std::string> done;  // bounds whose boundary was checked
     for (const auto& v : testing::NearMissVariants(p.domain, p.state_plan)) {
       if (done.count(v.pointer) && v.pointer.find("maintenance") == std::string::npos) continue;
       auto sp = LoadStatePlan(v.state_plan, *d, diags);
       if (!sp) continue;
-      auto c = FindStaticConflict(*d, *sp);
+      auto c = FindStaticConflict(*d, *sp, routes);
       if (!c) continue;
       done.insert(v.pointer);
       for (const char* search : {"g_first", "z3"}) {
@@ -151,9 +153,19 @@ int CheckNearMisses(unsigned first, int count, std::map<std::string, int>& kinds
 
 TEST(Differential, NearMissesProvenStaticallyAreInfeasibleForEachSolver) {
   std::map<std::string, int> kinds;
-  const int checked = CheckNearMisses(0, 12, kinds);
+  const int checked = CheckNearMisses(0, 12, kinds, AnalysisOptions{.zones = false});
   for (const auto& [k, n] : kinds) std::cout << k << ": " << n << "\n";
   EXPECT_GE(checked, 6);
+}
+
+// The same near misses with the zone search instead of the time network: it refutes looser
+// variants (the loosest one refuted is checked), each infeasible for Gecode and for z3 alone.
+TEST(Differential, NearMissesProvenByTheZoneSearchAreInfeasibleForEachSolver) {
+  std::map<std::string, int> kinds;
+  const int checked = CheckNearMisses(0, 30, kinds, AnalysisOptions{.time_network = false});
+  for (const auto& [k, n] : kinds) std::cout << k << ": " << n << "\n";
+  EXPECT_GE(checked, 6);
+  EXPECT_GE(kinds["zones"], 3);
 }
 
 // The time network's case split on the order of two events and its node options tied together
@@ -179,13 +191,13 @@ int CheckCoupledNearMisses(unsigned first, int count, int& split) {
         Json sp0 = p.state_plan;
         sp0["end_state"]["maintenance_constraint"] = an + "l[i]==" + x + " -> " + bn + "l[i]==" + y;
         auto base = LoadStatePlan(sp0, *d, diags);
-        if (!base || FindStaticConflict(*d, *base)) continue;
+        if (!base || FindStaticConflict(*d, *base, AnalysisOptions{.zones = false})) continue;
         std::set<std::string> done;  // bounds whose loosest refuted value was checked
         for (const auto& v : testing::NearMissVariants(p.domain, sp0, 0)) {
           if (v.pointer.find("upper_bound") == std::string::npos || done.count(v.pointer)) continue;
           auto sp = LoadStatePlan(v.state_plan, *d, diags);
           if (!sp) continue;
-          auto c = FindStaticConflict(*d, *sp);
+          auto c = FindStaticConflict(*d, *sp, AnalysisOptions{.zones = false});
           if (!c || c->kind != "time_network") continue;
           const bool by_split = c->text.find("whichever order") != std::string::npos;
           for (const char* search : {"g_first", "z3"}) {
@@ -213,6 +225,69 @@ TEST(Differential, CoupledNearMissesProvenStaticallyAreInfeasibleForEachSolver) 
   const int checked = CheckCoupledNearMisses(0, 40, split);
   std::cout << "checked " << checked << ", by a split " << split << "\n";
   EXPECT_GE(checked, 6);
+}
+
+// Either order (issue 20): the near misses of EitherOrderBases (random_problem.h), both
+// deadlines on a grid 0..kGrid. Each pair the time network refutes only by splitting on the
+// order of the two events (the zone search off), and loosest (a second more on either deadline
+// is no longer refuted), must be infeasible for Gecode and for z3 alone; the zone search, which
+// follows the runs themselves, must refute it too. Returns how many were checked (at most `cap`).
+int CheckEitherOrderNearMisses(unsigned first, int count, int cap) {
+  constexpr int kGrid = 12;
+  int checked = 0;
+  for (unsigned seed = first; seed < first + static_cast<unsigned>(count) && checked < cap; ++seed) {
+    testing::ProblemGenerator gen(seed);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    if (!d) continue;
+    for (const auto& base : testing::EitherOrderBases(p.domain, p.state_plan)) {
+      // refuted[u1][u2] by any route but the zones; split[u1][u2] by the network's split.
+      std::vector<std::vector<char>> refuted(kGrid + 2, std::vector<char>(kGrid + 2, 0));
+      auto split = refuted;
+      std::map<std::pair<int, int>, Json> plans;
+      for (int u1 = 0; u1 <= kGrid + 1; ++u1)
+        for (int u2 = 0; u2 <= kGrid + 1; ++u2) {
+          Json j = base.state_plan;
+          j["constraints"]["temporal"]["First"]["upper_bound"] = u1;
+          j["constraints"]["temporal"]["Second"]["upper_bound"] = u2;
+          auto sp = LoadStatePlan(j, *d, diags);
+          if (!sp) continue;
+          auto c = FindStaticConflict(*d, *sp, AnalysisOptions{.zones = false});
+          refuted[u1][u2] = c.has_value();
+          split[u1][u2] = c && c->text.find("whichever order") != std::string::npos;
+          plans[{u1, u2}] = j;
+        }
+      for (int u1 = 0; u1 <= kGrid && checked < cap; ++u1)
+        for (int u2 = 0; u2 <= kGrid && checked < cap; ++u2) {
+          if (!split[u1][u2] || refuted[u1 + 1][u2] || refuted[u1][u2 + 1]) continue;
+          auto sp = LoadStatePlan(plans[{u1, u2}], *d, diags);
+          if (!sp) continue;
+          const std::string what = "seed " + std::to_string(seed) + " " + base.what + ", within " +
+                                   std::to_string(u1) + " and " + std::to_string(u2) + " s";
+          for (const char* search : {"g_first", "z3"}) {
+            SolveOptions o;
+            o.max_horizon = kMaxHorizon;
+            o.static_analysis = false;
+            o.decompose = false;
+            o.search = search;
+            EXPECT_EQ(Run(*d, *sp, o).status, "infeasible")
+                << what << " (" << search << ")\n" << plans[{u1, u2}].dump() << "\n"
+                << p.domain.dump();
+          }
+          auto z = FindStaticConflict(*d, *sp, AnalysisOptions{.time_network = false});
+          EXPECT_TRUE(z) << what << ": the zone search finds a run";
+          ++checked;
+        }
+    }
+  }
+  return checked;
+}
+
+TEST(Differential, EitherOrderNearMissesAreInfeasibleForEachSolver) {
+  const int checked = CheckEitherOrderNearMisses(0, 60, 12);
+  std::cout << "checked " << checked << " proofs by a split\n";
+  EXPECT_GE(checked, 4);
 }
 
 // 4 x 50 = 200 problems, in shards that ctest runs in parallel.

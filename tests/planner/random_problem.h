@@ -239,4 +239,46 @@ inline std::vector<NearMiss> NearMissVariants(const Json& domain, const Json& st
   return out;
 }
 
+// Either-order near misses (issue 20, the time network's split on the order of two events): two
+// deadlines from the start that conflict only together. From the problem's initial state (every
+// automaton where it starts: both constraints active at e[0]), temporal constraint First ends
+// when automaton a reaches X and Second when a is in W and b in Y (X != W, neither end holding
+// at the start): whichever comes first, a must then travel between X and W. One base per choice
+// of X, W and Y; the test sets both upper bounds (the `upper_bound`s of First and Second) on a
+// grid and keeps the loosest pairs a proof route refutes only by splitting on the order.
+inline std::vector<NearMiss> EitherOrderBases(const Json& domain, const Json& state_plan) {
+  std::vector<NearMiss> out;
+  const Json& automata = domain["automata"];
+  if (automata.size() < 2) return out;
+  const Json& init = state_plan["initial_state"];
+  const std::string a = automata[0]["name"], b = automata[1]["name"];
+  std::string start;
+  for (const auto& x : automata) {
+    const std::string n = x["name"];
+    start += (start.empty() ? "" : " /\\ ") + n + "l[i]==" + init[n].get<std::string>();
+  }
+  for (const auto& x : automata[0]["locations"])
+    for (const auto& w : automata[0]["locations"])
+      for (const auto& y : automata[1]["locations"]) {
+        if (x == w || x == init[a] || y == init[b]) continue;
+        const std::string xs = x, ws = w, ys = y;
+        Json sp = {{"initial_state", init},
+                   {"end_state", {{"maintenance_constraint", "true"}, {"goal_constraint", "true"}}},
+                   {"constraints",
+                    {{"episodes", Json::object()},
+                     {"event", Json::object()},
+                     {"temporal",
+                      {{"First", {{"accepting_event1_constraint", start},
+                                  {"accepting_event2_constraint", a + "l[i+1]==" + xs},
+                                  {"lower_bound", 0}, {"upper_bound", 0}}},
+                       {"Second", {{"accepting_event1_constraint", start},
+                                   {"accepting_event2_constraint",
+                                    a + "l[i+1]==" + ws + " /\\ " + b + "l[i+1]==" + ys},
+                                   {"lower_bound", 0}, {"upper_bound", 0}}}}}}}};
+        out.push_back({a + " to " + xs + "; " + a + " in " + ws + " and " + b + " in " + ys,
+                       "/constraints/temporal", sp});
+      }
+  return out;
+}
+
 }  // namespace ctb::testing
