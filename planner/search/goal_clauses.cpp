@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 namespace ctb::search {
@@ -10,6 +11,16 @@ namespace ctb::search {
 bool ChooseFacts(const Clauses& clauses, bool one_stage,
                  const std::function<double(const LocationAtom&)>& cost,
                  std::vector<LocationAtom>& out) {
+  const bool plain = std::all_of(clauses.begin(), clauses.end(),
+                                 [](const Clause& c) { return c.size() == 1; });
+  if (plain) {  // a conjunction of atoms: nothing to choose
+    for (const Clause& c : clauses)
+      if (std::isinf(cost(c[0]))) return false;
+    const auto start = static_cast<std::ptrdiff_t>(out.size());
+    for (const Clause& c : clauses)
+      if (std::find(out.begin() + start, out.end(), c[0]) == out.end()) out.push_back(c[0]);
+    return true;
+  }
   struct Pair {
     double cost;
     int clause;
@@ -30,21 +41,24 @@ bool ChooseFacts(const Clauses& clauses, bool one_stage,
   }
   std::stable_sort(pairs.begin(), pairs.end(),
                    [](const Pair& a, const Pair& b) { return a.cost < b.cost; });
-  std::vector<char> done(clauses.size(), 0);
+  // The fact each clause gets, emitted in clause order: for a plain conjunction the relaxed plan
+  // then sums its costs in the same order as the conjunction's atoms (ties in the search's open
+  // list compare sums exactly).
+  std::vector<const LocationAtom*> got(clauses.size(), nullptr);
   std::unordered_map<int, int> at;  // automaton -> the location chosen for it
   for (const Pair& p : pairs) {
-    if (done[p.clause]) continue;
+    if (got[p.clause]) continue;
     auto it = at.find(p.atom.first);
     if (one_stage && it != at.end() && it->second != p.atom.second) continue;
     at[p.atom.first] = p.atom.second;
-    out.push_back(p.atom);
-    for (int c : clauses_of[p.atom]) done[c] = 1;  // what this fact already achieves
+    for (int c : clauses_of[p.atom])  // what this fact already achieves
+      if (!got[c]) got[c] = &p.atom;
   }
   for (const Pair& p : pairs)  // nothing consistent left: the cheapest fact
-    if (!done[p.clause]) {
-      done[p.clause] = 1;
-      out.push_back(p.atom);
-    }
+    if (!got[p.clause]) got[p.clause] = &p.atom;
+  std::set<LocationAtom> emitted;
+  for (const LocationAtom* t : got)
+    if (emitted.insert(*t).second) out.push_back(*t);
   return true;
 }
 

@@ -17,8 +17,9 @@ namespace ctb::search {
 // order, then the fact's order in its clause), a pair taken when its clause is not yet satisfied
 // and, with one_stage, its automaton has no other location chosen; a chosen fact satisfies every
 // clause that holds it. A clause left with nothing consistent takes its cheapest fact. `cost` is
-// +infinity for a fact not reachable. Appends the chosen facts to out; returns false (out partly
-// filled) when every fact of some clause is unreachable.
+// +infinity for a fact not reachable. Appends the chosen facts to out, each once, in the order of
+// the clauses that got them (a plain conjunction: its atoms in order); returns false (out
+// unchanged) when every fact of some clause is unreachable.
 bool ChooseFacts(const Clauses& clauses, bool one_stage,
                  const std::function<double(const LocationAtom&)>& cost,
                  std::vector<LocationAtom>& out);

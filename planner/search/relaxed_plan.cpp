@@ -139,7 +139,7 @@ bool RelaxedPlan::Targets(const Node& n, const std::vector<double>& cost, std::v
     if (!ChooseFacts(c->clauses, c->one_stage, cost_of, picked)) return false;
     for (const LocationAtom& t : picked) {
       const int f = Fact(t.first, t.second);
-      if (!chosen[f]) facts.push_back(f);
+      facts.push_back(f);  // again when chosen before: the extraction skips it
       chosen[f] = 1;
     }
   }
