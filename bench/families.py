@@ -113,6 +113,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     a = ap.parse_args()
     sizes = [int(x) for x in a.sizes.split(",")]
+    load_before = os.getloadavg()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for family in a.families.split(","):
@@ -136,8 +137,9 @@ def main():
     cmd = "python3 bench/families.py " + " ".join(sys.argv[1:])
     lines = ["# New coupled families (issue 18): problems nobody tuned for", "",
              f"Made by `{cmd}` on {os.cpu_count()} cores, {platform.platform()}; time limit "
-             f"{a.time_limit_ms} ms per solve, objective makespan. Load average at the end: "
-             f"{load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}. Seconds; `first`: the first verified "
+             f"{a.time_limit_ms} ms per solve, objective makespan. Load average (1 / 5 / 15 min) at "
+             f"the start {load_before[0]:.1f} / {load_before[1]:.1f} / {load_before[2]:.1f}, at the "
+             f"end {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}. Seconds; `first`: the first verified "
              "plan; `total`: the answer (`stats.solve_ms`).", "",
              "Families (bench/families.py): `assign` free assignment of robots to persons, robots of "
              "three speeds (`assign_eq`: one speed); `door` at most one robot opening each door at a time (a state "

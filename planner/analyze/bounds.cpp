@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "planner/analyze/assignment.h"
+#include "planner/analyze/clauses.h"
 #include "planner/analyze/relaxed_cost.h"
 #include "planner/analyze/workload.h"
 
@@ -172,6 +174,14 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
   // The same rules, counted in events.
   const auto ev = ComputeEarliestTimes(d, sp, Measure::kEvents);
   if (ev && ev->goal < EarliestTimes::kNever) b.events = std::max(b.events, ev->goal);
+  // A goal that several automata may serve, each in one location (analyze/assignment.h).
+  if (!sp.goal.info.IsChange()) {
+    const Clauses goal_clauses = ToClauses(sp.goal.expr);
+    if (earliest)
+      b.makespan_ticks = std::max(
+          b.makespan_ticks, AssignmentBound(goal_clauses, earliest->arrival, kUnreachable));
+    if (ev) b.events = std::max(b.events, AssignmentBound(goal_clauses, ev->arrival, kUnreachable));
+  }
   // Work only helpers can do, spread over the helpers (analyze/workload.h). The helpers' own
   // ways and the work charged to them count the same transitions: the larger of the two.
   const Workload w = ComputeWorkload(d, sp, earliest ? &*earliest : nullptr, ev ? &*ev : nullptr);

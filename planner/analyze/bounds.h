@@ -25,7 +25,8 @@ struct ObjectiveBounds {
 // location is first entered, and a temporal constraint's lower bound passes before the goal.
 // Guards add visits (landmarks): when an automaton cannot reach a location it must enter without
 // a transition whose guard needs another automaton in some location, that one must go there.
-// The makespan bound is also at least the earliest goal time (analyze/earliest.h). The event
+// The makespan bound is also at least the earliest goal time (analyze/earliest.h) and, for a goal
+// on one stage that several automata may serve, the assignment bound (analyze/assignment.h). The event
 // bound (the first horizon the search tries) counts each transition as an event of its own, and
 // the earliest-times rules in events.
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);

@@ -6,7 +6,6 @@
 #include <limits>
 #include <queue>
 
-#include "planner/analyze/earliest.h"  // RequiredLocations
 
 namespace ctb::search {
 
@@ -49,11 +48,6 @@ std::vector<Atoms> Alternatives(const Expr& e) {
   }
 }
 
-Atoms Needs(const Condition& c) {
-  Atoms out;
-  RequiredLocations(c.expr, out);
-  return out;
-}
 
 }  // namespace
 
@@ -91,11 +85,12 @@ RelaxedPlan::RelaxedPlan(const Domain& d, const StatePlan& sp, Objective objecti
       }
     }
   }
-  goal_ = Needs(sp.goal);
-  for (const auto& ep : sp.episodes) ep_acc_.push_back(Needs(ep.accepting));
+  auto need = [](const Condition& c) { return Need{ToClauses(c.expr), !c.info.IsChange()}; };
+  goal_ = need(sp.goal);
+  for (const auto& ep : sp.episodes) ep_acc_.push_back(need(ep.accepting));
   for (const auto& tc : sp.temporals) {
-    tc_ev1_.push_back(Needs(tc.event1));
-    tc_ev2_.push_back(Needs(tc.event2));
+    tc_ev1_.push_back(need(tc.event1));
+    tc_ev2_.push_back(need(tc.event2));
   }
 }
 
@@ -107,26 +102,48 @@ double RelaxedPlan::ActionCost(const Action& act, const Node& n) const {
   return act.cost - (objective_ == Objective::kMakespan ? 1.0 : 1e-6) * static_cast<double>(spent);
 }
 
-void RelaxedPlan::Needed(const Node& n, std::vector<int>& facts, double& wait) const {
-  for (auto [a, l] : goal_) facts.push_back(Fact(a, l));
+void RelaxedPlan::Needed(const Node& n, std::vector<const Need*>& needed, double& wait) const {
+  needed.push_back(&goal_);
   const Monitors& m = n.mon;
   wait = 0;
   for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
     if (m.ep_start[p] < 0)
-      for (auto [a, l] : ep_acc_[p]) facts.push_back(Fact(a, l));
+      needed.push_back(&ep_acc_[p]);
     else if (m.ep_end[p] < 0)
       wait = std::max(wait, static_cast<double>(m.ep_start_t[p] +
                                                 std::lround(sp_.episodes[p].lower * tps_) - n.time));
   }
   for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
     if (m.tc_k1[q] < 0)
-      for (auto [a, l] : tc_ev1_[q]) facts.push_back(Fact(a, l));
+      needed.push_back(&tc_ev1_[q]);
     if (m.tc_k2[q] < 0)
-      for (auto [a, l] : tc_ev2_[q]) facts.push_back(Fact(a, l));
+      needed.push_back(&tc_ev2_[q]);
     if ((m.tc_k1[q] < 0) != (m.tc_k2[q] < 0))
       wait = std::max(wait, static_cast<double>(m.tc_first_t[q] +
                                                 std::lround(sp_.temporals[q].lower * tps_) - n.time));
   }
+}
+
+bool RelaxedPlan::Targets(const Node& n, const std::vector<double>& cost, std::vector<int>& facts,
+                          double& wait) const {
+  std::vector<const Need*> needed;
+  Needed(n, needed, wait);
+  std::vector<char> chosen(facts_, 0);
+  auto cost_of = [&](const LocationAtom& t) {
+    const int f = Fact(t.first, t.second);
+    return chosen[f] ? 0.0 : cost[f];
+  };
+  std::vector<LocationAtom> picked;
+  for (const Need* c : needed) {
+    picked.clear();
+    if (!ChooseFacts(c->clauses, c->one_stage, cost_of, picked)) return false;
+    for (const LocationAtom& t : picked) {
+      const int f = Fact(t.first, t.second);
+      facts.push_back(f);  // again when chosen before: the extraction skips it
+      chosen[f] = 1;
+    }
+  }
+  return true;
 }
 
 Estimate RelaxedPlan::Evaluate(const Node& n) const {
@@ -163,12 +180,10 @@ Estimate RelaxedPlan::Evaluate(const Node& n) const {
   }
   std::vector<int> stack;
   double wait = 0;
-  Needed(n, stack, wait);
-  for (int f : stack)
-    if (cost[f] == kInf) {
-      est.dead = true;
-      return est;
-    }
+  if (!Targets(n, cost, stack, wait)) {
+    est.dead = true;
+    return est;
+  }
   // The relaxed plan: the best supporters of every needed fact, each action counted once.
   std::vector<char> marked(actions_.size(), 0), seen(facts_, 0);
   double h = 0;

@@ -3,6 +3,9 @@
 // per transition and per alternative of its guard (the positive location atoms it needs;
 // commands and negations dropped, as in planner/analyze/relaxed_cost.cpp). From a node, the
 // first transition of each automaton costs only the part of its lower duration not yet spent.
+// What the state plan still needs is read as clauses (goal_clauses.h): each clause gets one fact,
+// cheapest first, one location per automaton within a condition, and facts another condition's
+// choice already brought cost nothing more.
 #pragma once
 
 #include <utility>
@@ -11,6 +14,7 @@
 #include "planner/model/domain.h"
 #include "planner/model/state_plan.h"
 #include "planner/search/expand.h"
+#include "planner/search/goal_clauses.h"
 
 namespace ctb::search {
 
@@ -28,6 +32,11 @@ class RelaxedPlan {
   Estimate Evaluate(const Node& n) const;
 
  private:
+  // What each condition needs, and whether it is read on one stage (not a change).
+  struct Need {
+    Clauses clauses;
+    bool one_stage = true;
+  };
   struct Action {
     std::vector<int> pre;  // facts; pre[0] is the source location
     int add = 0;
@@ -39,7 +48,11 @@ class RelaxedPlan {
   };
   int Fact(int a, int l) const { return offset_[a] + l; }
   double ActionCost(const Action& act, const Node& n) const;
-  void Needed(const Node& n, std::vector<int>& facts, double& wait) const;
+  // The conditions still to be met at n (the goal first), and the time that must still pass.
+  void Needed(const Node& n, std::vector<const Need*>& needed, double& wait) const;
+  // The facts the relaxed plan supports; false when some clause cannot be reached.
+  bool Targets(const Node& n, const std::vector<double>& cost, std::vector<int>& facts,
+               double& wait) const;
 
   const Domain& d_;
   const StatePlan& sp_;
@@ -49,8 +62,8 @@ class RelaxedPlan {
   int facts_ = 0;
   std::vector<Action> actions_;
   std::vector<std::vector<int>> pre_of_;  // fact -> actions needing it
-  std::vector<std::pair<int, int>> goal_;  // the end state's needed locations
-  std::vector<std::vector<std::pair<int, int>>> ep_acc_, tc_ev1_, tc_ev2_;
+  Need goal_;  // what the end state needs
+  std::vector<Need> ep_acc_, tc_ev1_, tc_ev2_;
 };
 
 }  // namespace ctb::search

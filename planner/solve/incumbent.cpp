@@ -49,7 +49,8 @@ std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, con
                      {"found_by", "heuristic"}});
   };
   FirstPlanResult r = FindFirstPlan(d, sp, fo);
-  Json info = {{"ms", r.elapsed_ms}, {"expanded", r.expanded}, {"found", best.has_value()}};
+  Json info = {{"ms", r.elapsed_ms}, {"expanded", r.expanded}, {"generated", r.generated},
+               {"found", best.has_value()}};
   if (!r.declined.empty()) info["declined"] = r.declined;
   if (r.rejected > 0) {
     info["rejected"] = r.rejected;

@@ -14,7 +14,7 @@ namespace ctb::solve {
 long FirstPlanBudgetMs(const SolveOptions& o);
 
 // Runs the engine for its budget; returns its best verified plan with at most max_events events
-// and records what it did in stats["first_plan"] (ms, expanded, found, declined). `found_ms` is
+// and records what it did in stats["first_plan"] (ms, expanded, generated, found, declined). `found_ms` is
 // the time (since t0) the returned plan was found.
 // `bounds` (LowerBounds(d, sp), or with a history SolveOptions::bounds, valid given it) stops
 // the search at a plan that meets them. With o.history the engine starts from the history and

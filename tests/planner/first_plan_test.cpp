@@ -8,6 +8,7 @@
 
 #include "planner/verify/verify.h"
 #include "random_problem.h"
+#include "team_problem.h"
 #include "test_util.h"
 
 namespace ctb {
@@ -93,6 +94,25 @@ TEST(FirstPlan, StopsWhenGoodEnough) {
   ASSERT_TRUE(r.best);
   EXPECT_EQ(plans, 1);
   EXPECT_FALSE(r.exhausted);
+}
+
+// Which robot rescues whom is free, and robots have three speeds (bench/families.py `assign`):
+// the goal is a conjunction of disjunctions. Read as clauses, one robot per person, the relaxed
+// plan leads each robot to a person of its own; reading only the goal's conjunction it saw nothing
+// needed and found no plan in 15 s from four robots on.
+TEST(FirstPlan, FreeAssignmentWithMixedSpeeds) {
+  for (int n : {4, 8}) {
+    testing::TeamProblem p = testing::MixedSpeedTeam(n);
+    FirstPlanOptions o;
+    o.objective = Objective::kMakespan;
+    o.time_limit_ms = 5000;
+    o.good_enough = [](long, long makespan) { return makespan <= 30; };  // the optimum
+    FirstPlanResult r = FindFirstPlan(p.domain, p.plan, o);
+    ASSERT_TRUE(r.best) << n << " robots";
+    EXPECT_EQ(r.makespan, 30) << n << " robots";
+    EXPECT_LT(r.expanded, 1000) << n << " robots";  // guided, not blind
+    EXPECT_TRUE(VerifyTrajectory(*r.best, p.domain, p.plan, 1).empty());
+  }
 }
 
 // Random problems (the differential suite's generator): guards across automata, episodes,
