@@ -21,6 +21,7 @@
 
 #include "planner/analyze/abstraction.h"
 #include "planner/analyze/dbm.h"
+#include "planner/analyze/earliest.h"  // RequiredLocations
 #include "planner/analyze/zone_reach.h"
 
 namespace ctb::analysis {
@@ -148,20 +149,13 @@ class Search {
 
   // Per automaton the goal's location (a top-level conjunct "X[i+1]==L" or "X[i]==L"), and the
   // fewest transitions from each location to it.
+  // With two conjuncts on one automaton (no plan meets both), the first one counts.
   void GoalDistances() {
     to_goal_.assign(na_, {});
-    std::vector<const Expr*> todo{&sp_.goal.raw};
-    while (!todo.empty()) {
-      const Expr* e = todo.back();
-      todo.pop_back();
-      if (e->op == Expr::Op::kAnd) {
-        todo.push_back(&e->kids[0]);
-        todo.push_back(&e->kids[1]);
-      } else if (e->op == Expr::Op::kAtom && e->var_kind == VarKind::kLocation && !e->not_equal &&
-                 e->index.kind != IndexKind::kFixed) {
-        to_goal_[e->target] = Backwards(e->target, e->value_code);
-      }
-    }
+    std::vector<std::pair<int, int>> needed;
+    RequiredLocations(sp_.goal.raw, needed);
+    for (auto [a, l] : needed)
+      if (to_goal_[a].empty()) to_goal_[a] = Backwards(a, l);
   }
 
   std::vector<int> Backwards(int a, int target) const {

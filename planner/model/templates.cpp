@@ -534,10 +534,6 @@ class Expander {
   long items_ = 0;
 };
 
-}  // namespace
-
-namespace {
-
 // No "for" or "template" item and no brace in any string below `j`.
 bool NoTemplateSyntax(const Json& j) {
   if (j.is_string()) return j.get_ref<const std::string&>().find_first_of("{}") == std::string::npos;

@@ -6,7 +6,6 @@
 #include <limits>
 #include <queue>
 
-
 namespace ctb::search {
 
 namespace {
@@ -47,7 +46,6 @@ std::vector<Atoms> Alternatives(const Expr& e) {
     default: return {{}};
   }
 }
-
 
 }  // namespace
 

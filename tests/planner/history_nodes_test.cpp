@@ -51,6 +51,13 @@ StatePlan Test2() {
                                    testing::ConfigDir() + "/examples/search_rescue/test2.json");
 }
 
+// Test2's plan from the engine, by makespan, with no history: the plan a replan departs from.
+FirstPlanResult Test2Plan(const Domain& d, const StatePlan& sp) {
+  FirstPlanOptions o;
+  o.objective = Objective::kMakespan;
+  return FindFirstPlan(d, sp, o);
+}
+
 // The earliest future event (after the history's last) of a plan.
 long FirstFutureTime(const Trajectory& t) {
   const int p = t.history->events();
@@ -74,9 +81,7 @@ bool Takes(const Trajectory& t, const Domain& d, const std::string& automaton,
 TEST(FirstPlanFromHistory, AlongTheOptimalPlanNothingDepartsKeeps11) {
   const Domain& d = testing::ShippedDomain("search_rescue");
   StatePlan sp = Test2();
-  FirstPlanOptions o;
-  o.objective = Objective::kMakespan;
-  FirstPlanResult plan = FindFirstPlan(d, sp, o);
+  FirstPlanResult plan = Test2Plan(d, sp);
   ASSERT_TRUE(plan.best);
   ASSERT_EQ(plan.makespan, 11);
   Json previous = TrajectoryToJson(*plan.best, d, sp, 1);
@@ -155,9 +160,7 @@ TEST(FirstPlanFromHistory, TheCostIsTheWholeRuns) {
 TEST(FirstPlanFromHistory, DeclinesKeepStarted) {
   const Domain& d = testing::ShippedDomain("search_rescue");
   StatePlan sp = Test2();
-  FirstPlanOptions o;
-  o.objective = Objective::kMakespan;
-  FirstPlanResult plan = FindFirstPlan(d, sp, o);
+  FirstPlanResult plan = Test2Plan(d, sp);
   ASSERT_TRUE(plan.best);
   Replanned x =
       FromHistory(d, sp, {{"now", 1}, {"trajectory", TrajectoryToJson(*plan.best, d, sp, 1)}},
