@@ -189,6 +189,23 @@ try {
   const overflow = await p2.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
   check("no sideways scrolling at phone width", overflow <= 0, `${overflow}px`);
   await p2.screenshot({ path: `${out}/domains-phone.png`, fullPage: true });
+  // ... and so does the report box with its words row, over a plan being executed.
+  await p2.fill("#command", "drone 1 to A and drone 2 to B");
+  await p2.press("#command", "Enter");
+  const phoneTurn = p2.locator(".turn").last();
+  await phoneTurn.locator(".summary").waitFor({ timeout: 120000 });
+  await phoneTurn.locator(".exec-toggle").click();
+  await sleep(300);
+  await phoneTurn.locator(".exec-toggle").click();
+  await phoneTurn.locator('svg.timeline .rowpick[data-automaton="drone2"]').click();
+  const phoneBox = phoneTurn.locator(".fault-box");
+  const wordsBox = await phoneBox.locator(".fault-words-row").boundingBox();
+  const boxBox = await phoneBox.boundingBox();
+  check("at phone width the words row fits in the report box, inside the screen",
+        wordsBox && boxBox && wordsBox.x >= boxBox.x && wordsBox.x + wordsBox.width <= boxBox.x + boxBox.width + 1 &&
+        boxBox.x >= 0 && boxBox.x + boxBox.width <= 390, JSON.stringify({ wordsBox, boxBox }));
+  await phoneBox.scrollIntoViewIfNeeded();
+  await p2.screenshot({ path: `${out}/domains-fault-words-phone.png` });
 
   check("no script errors", scriptErrors.length === 0, scriptErrors.join("; "));
   check("the only refused request is the bad team's",
