@@ -147,11 +147,12 @@ class Morris {
     AddEdge({u, source, w, EdgeKind::kOrdinary, -1, path});
   }
 
-  // Whether the lower-case edge e may follow the path of u (not after its own upper-case edge).
+  // Whether the lower-case edge e may come before the path of u: not when that path starts with
+  // the upper-case edge of the same contingent link (which can only be the search's first edge).
   bool Suitable(const Edge& e, const Entry& at_u) const {
-    if (e.kind != EdgeKind::kLower || at_u.init < 0) return true;
-    const Edge& init = edges_[static_cast<std::size_t>(at_u.init)];
-    return !(init.kind == EdgeKind::kUpper && init.link == e.link);
+    if (e.kind != EdgeKind::kLower || at_u.edge < 0) return true;
+    const Edge& next = edges_[static_cast<std::size_t>(at_u.edge)];
+    return !(next.kind == EdgeKind::kUpper && next.link == e.link);
   }
 
   static bool Improves(const Search& s, int v, Ticks d) {

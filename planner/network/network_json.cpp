@@ -90,6 +90,8 @@ std::optional<Link> ParseLink(const Json& j, std::size_t i, const NameIndex& ind
   l.from = *from;
   l.to = *to;
   l.lb = *lb;
+  CheckLinkBounds(l, r.pointer(), diags);
+  if (diags.errors().size() != before) return std::nullopt;
   return l;
 }
 
