@@ -213,6 +213,12 @@ class Core {
   std::variant<DraftAnswer, Error> DraftDomain(const std::string& description,
                                                const CallContext& ctx);
 
+  // A bare temporal network (contract section 13, `POST /networks/check`): the body
+  // {"points", "links"} checked for consistency, strong and dynamic controllability;
+  // {"consistent", "strong", "dynamic", "conflict"?, "ms"}. Located kInvalidInput errors; kTooLarge
+  // beyond kMaxNetworkPoints / kMaxNetworkLinks. Runs on the calling thread (no solver, no gate).
+  std::variant<Json, Error> CheckNetwork(const Json& body);
+
   // "replay" | "endpoint" | "recordings" | "none": which LLM answers /plan.
   std::string LlmMode() const;
   bool SolverReady() const;
@@ -227,6 +233,11 @@ class Core {
   explicit Core(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// Core::CheckNetwork without a Core (the CLI's local mode): the same answer and errors.
+inline constexpr std::size_t kMaxNetworkPoints = 100000;
+inline constexpr std::size_t kMaxNetworkLinks = 400000;
+std::variant<Json, Error> CheckNetworkBody(const Json& body);
 
 // Request-side checks shared by the front ends. The JSON form of options ("/options" of a body)
 // into RequestOptions: type errors at their pointers.

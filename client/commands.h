@@ -58,6 +58,10 @@ Runner AddExecute(CLI::App& app);
 // model (issues on stderr, exit 1).
 Runner AddDomain(CLI::App& app);
 
+// `ctburton network check FILE`: prints {"consistent", "strong", "dynamic", "conflict"?, "ms"}
+// (the answer of POST /networks/check), exit 0; or the located errors and exit 1.
+Runner AddNetwork(CLI::App& app);
+
 // `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
 Runner AddServe(CLI::App& app);
 

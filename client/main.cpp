@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddReplan(app));
   runners.push_back(ctb::cli::AddExecute(app));
   runners.push_back(ctb::cli::AddDomain(app));
+  runners.push_back(ctb::cli::AddNetwork(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -178,6 +178,18 @@ class PlannerService final : public pb::Planner::Service {
       return Status::OK;
     });
   }
+  Status CheckNetwork(ServerContext* c, const pb::NetworkCheckRequest* q,
+                      pb::NetworkCheckResult* r) override {
+    return Run(c, "CheckNetwork", [&]() -> Status {
+      Json body = ToJson(*q);  // empty lists are left out by the JSON mapping
+      if (!body.contains("points")) body["points"] = Json::array();
+      if (!body.contains("links")) body["links"] = Json::array();
+      auto v = core_.CheckNetwork(body);
+      if (auto* e = std::get_if<Error>(&v)) return StatusOf(*e);
+      if (auto err = FromJson(std::get<Json>(v), r)) return Status(grpc::StatusCode::INTERNAL, *err);
+      return Status::OK;
+    });
+  }
   Status GetSession(ServerContext* c, const pb::GetSessionRequest* q, pb::Session* r) override {
     return Run(c, "GetSession", [&]() -> Status {
       auto s = core_.GetSession(q->session());

@@ -30,7 +30,7 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
     if (!j) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read config " + file, d);
     ObjectReader r(*j, "", d);
     r.CheckKeys({"host", "port", "config_dir", "prompts_dir", "static_dir", "minizinc", "recordings_dir",
-                 "max_body_bytes", "read_timeout_s", "write_timeout_s", "solver_workers",
+                 "max_body_bytes", "max_network_body_bytes", "read_timeout_s", "write_timeout_s", "solver_workers",
                  "solver_queue", "default_time_limit_ms", "max_time_limit_ms", "max_horizon_limit",
                  "max_sessions", "session_idle_s", "shutdown_grace_ms", "body_timeout_s", "keep_alive_s",
                  "max_connections", "max_connections_per_address", "solver_memory_mb", "budget",
@@ -78,6 +78,7 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
       else d.Error("/demo", "must be true or false");
     }
     num("max_body_bytes", c.max_body_bytes);
+    num("max_network_body_bytes", c.max_network_body_bytes);
     num("read_timeout_s", c.read_timeout_s);
     num("write_timeout_s", c.write_timeout_s);
     num("solver_workers", c.solver_workers);
@@ -169,6 +170,8 @@ std::optional<Error> ServerConfig::Validate() const {
   range("/budget/max_string_bytes", budget.max_string_bytes, 16, 1L << 24);
   range("/budget/max_string_total", budget.max_string_total, 16, 1L << 30);
   if (max_body_bytes < 1024 || max_body_bytes > (64L << 20)) d.Error("/max_body_bytes", "must be 1 KiB..64 MiB");
+  if (max_network_body_bytes < 1024 || max_network_body_bytes > (64L << 20))
+    d.Error("/max_network_body_bytes", "must be 1 KiB..64 MiB");
   if (solver_workers < 1 || solver_workers > 64) d.Error("/solver_workers", "must be 1..64");
   if (solver_queue < 0 || solver_queue > 1024) d.Error("/solver_queue", "must be 0..1024");
   if (max_time_limit_ms < 100 || max_time_limit_ms > 3600000) d.Error("/max_time_limit_ms", "must be 100..3600000");
@@ -186,7 +189,8 @@ std::optional<Error> ServerConfig::Validate() const {
 
 Json ServerConfig::ToLogJson() const {
   return {{"host", host}, {"port", port}, {"config_dir", config_dir}, {"static_dir", static_dir},
-          {"max_body_bytes", max_body_bytes}, {"solver_workers", solver_workers},
+          {"max_body_bytes", max_body_bytes}, {"max_network_body_bytes", max_network_body_bytes},
+          {"solver_workers", solver_workers},
           {"solver_queue", solver_queue}, {"default_time_limit_ms", default_time_limit_ms},
           {"max_time_limit_ms", max_time_limit_ms}, {"max_connections", max_connections},
           {"max_connections_per_address", max_connections_per_address},

@@ -21,6 +21,7 @@ struct ServerConfig {
   std::string minizinc = "minizinc";
   std::string recordings_dir;      // answers /plan and /translate when no LLM is configured
   long max_body_bytes = 1 << 20;   // 413 beyond
+  long max_network_body_bytes = 4 << 20;  // POST /networks/check only (10,000 points fit)
   int read_timeout_s = 5;          // a request head must arrive within this (slow clients: 408)
   int body_timeout_s = 10;         // and its body within this after the head
   int keep_alive_s = 5;            // an idle keep-alive connection is closed after this

@@ -165,7 +165,7 @@ class HttpFrontEnd::Impl {
     }
     Diagnostics d;
     ParseLimits limits;
-    limits.max_bytes = static_cast<std::size_t>(cfg_.max_body_bytes);
+    limits.max_bytes = static_cast<std::size_t>(BodyLimit(req.path));
     auto j = ParseJsonStrict(req.body, d, limits);
     if (!j) {
       SendError(res, Error::FromDiagnostics(ErrorCode::kInvalidInput, "request body is not valid JSON", d));
@@ -320,11 +320,17 @@ class HttpFrontEnd::Impl {
     SendJson(res, 200, out);
   }
 
+  // The body limit of a route: /networks/check takes networks of 10,000 points (4 MiB).
+  long BodyLimit(const std::string& path) const {
+    return path == "/networks/check" ? cfg_.max_network_body_bytes : cfg_.max_body_bytes;
+  }
+  long LargestBodyLimit() const { return std::max(cfg_.max_body_bytes, cfg_.max_network_body_bytes); }
+
   void SetUpServer() {
     svr_.set_tcp_nodelay(true);  // headers and body go out in two writes: no 40 ms Nagle stall
     svr_.set_read_timeout(cfg_.read_timeout_s, 0);
     svr_.set_write_timeout(cfg_.write_timeout_s, 0);
-    svr_.set_payload_max_length(static_cast<std::size_t>(cfg_.max_body_bytes));
+    svr_.set_payload_max_length(static_cast<std::size_t>(LargestBodyLimit()));
     // Connections are admitted, timed and checked by GuardedServer (server/limits.h). The pool has
     // more threads than admitted connections, so a refusal or /healthz never waits for a thread.
     ConnectionLimits limits;
@@ -333,7 +339,7 @@ class HttpFrontEnd::Impl {
     limits.head_timeout_ms = cfg_.read_timeout_s * 1000L;
     limits.body_timeout_ms = cfg_.body_timeout_s * 1000L;
     limits.keep_alive_ms = cfg_.keep_alive_s * 1000L;
-    limits.max_body_bytes = cfg_.max_body_bytes;
+    limits.max_body_bytes = LargestBodyLimit();  // per route in the pre-routing handler
     svr_.SetLimits(limits);
     svr_.set_keep_alive_timeout(cfg_.keep_alive_s);
     const int threads = cfg_.max_connections + 16;
@@ -349,8 +355,8 @@ class HttpFrontEnd::Impl {
         return httplib::Server::HandlerResponse::Handled;
       }
       if (req.has_header("Content-Length") &&
-          std::atoll(req.get_header_value("Content-Length").c_str()) > cfg_.max_body_bytes) {
-        SendError(res, {ErrorCode::kTooLarge, "request body larger than " + std::to_string(cfg_.max_body_bytes) + " bytes", {}});
+          std::atoll(req.get_header_value("Content-Length").c_str()) > BodyLimit(req.path)) {
+        SendError(res, {ErrorCode::kTooLarge, "request body larger than " + std::to_string(BodyLimit(req.path)) + " bytes", {}});
         core_.metrics().Request("(refused)", 413, 0);
         return httplib::Server::HandlerResponse::Handled;
       }
@@ -443,6 +449,13 @@ class HttpFrontEnd::Impl {
     }));
     svr_.Post("/replan", Wrap("/replan", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleReplan(q2, s2, o); });
+    }));
+    svr_.Post("/networks/check", Wrap("/networks/check", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      auto r = core_.CheckNetwork(*body);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
     }));
     svr_.Post("/validate", Wrap("/validate", [this](auto& q, auto& s) { HandleValidate(q, s); }));
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));

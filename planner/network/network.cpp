@@ -33,7 +33,9 @@ namespace {
 
 std::string LinkPointer(std::size_t i) { return "/links/" + std::to_string(i); }
 
-void CheckBounds(const Link& l, const std::string& p, Diagnostics& diags) {
+}  // namespace
+
+void CheckLinkBounds(const Link& l, const std::string& p, Diagnostics& diags) {
   if (l.contingent) {
     if (l.lb < 0) diags.Error(p + "/lb", "a contingent link needs lb >= 0");
     if (!l.ub) {
@@ -45,6 +47,8 @@ void CheckBounds(const Link& l, const std::string& p, Diagnostics& diags) {
     diags.Error(p + "/ub", "ub is below lb");
   }
 }
+
+namespace {
 
 // Marks each point's contingent link (the only one that ends there) and reports a second one.
 std::vector<int> ContingentParents(const Network& net, Diagnostics& diags) {
@@ -114,7 +118,7 @@ bool Validate(const Network& net, Diagnostics& diags) {
     if (l.from < 0 || l.from >= n) local.Error(p + "/from", "no such point"), ends_ok = false;
     if (l.to < 0 || l.to >= n) local.Error(p + "/to", "no such point"), ends_ok = false;
     if (ends_ok && l.from == l.to) local.Error(p, "a link from a point to itself");
-    CheckBounds(l, p, local);
+    CheckLinkBounds(l, p, local);
   }
   if (ends_ok) {
     const std::vector<int> parent_link = ContingentParents(net, local);

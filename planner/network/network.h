@@ -63,6 +63,10 @@ struct Network {
 std::optional<Ticks> TicksFromSeconds(double seconds);
 double SecondsFromTicks(Ticks t);
 
+// The rules on one link's bounds (contingent: 0 <= lb <= ub < inf; requirement: lb <= ub),
+// recorded at pointer + "/lb" or "/ub".
+void CheckLinkBounds(const Link& link, const std::string& pointer, Diagnostics& diags);
+
 // Structural rules of a network: link ends are valid point indices, contingent links have
 // 0 <= lb <= ub < inf, requirement links lb <= ub, no point is the end of two contingent links,
 // the contingent links form no cycle, a point's kind agrees with the links (contingent iff the

@@ -231,6 +231,46 @@ TEST(Grpc, ValidateNamesEveryErrorByItsPointer) {
 }
 
 // Domains through the API (contract section 12) over gRPC: the same calls as HTTP's /domains.
+// CheckNetwork (contract section 13): A ==[1,3]==> C, C -[-2,-1]-> B is consistent but neither
+// strongly nor dynamically controllable (B must precede C by 1 to 2 before C is seen); with
+// C -[0,1]-> B it is dynamic but not strong. An unknown point is INVALID_ARGUMENT at its pointer.
+TEST(Grpc, CheckNetworkAnswersLikeHttp) {
+  GrpcServer s;
+  pb::NetworkCheckRequest q;
+  for (const char* p : {"A", "B", "C"}) q.add_points(p);
+  pb::NetworkLink* ac = q.add_links();
+  ac->set_from("A");
+  ac->set_to("C");
+  ac->set_lb(1);
+  ac->set_ub(3);
+  ac->set_contingent(true);
+  pb::NetworkLink* cb = q.add_links();
+  cb->set_from("C");
+  cb->set_to("B");
+  cb->set_lb(-2);
+  cb->set_ub(-1);
+  grpc::ClientContext c;
+  pb::NetworkCheckResult r;
+  ASSERT_TRUE(s.stub->CheckNetwork(&c, q, &r).ok());
+  EXPECT_TRUE(r.consistent());
+  EXPECT_FALSE(r.strong());
+  EXPECT_FALSE(r.dynamic());
+  ASSERT_EQ(r.conflict_size(), 2);
+  EXPECT_EQ(r.conflict(0), 0);
+  EXPECT_EQ(r.conflict(1), 1);
+  cb->set_lb(0);
+  cb->set_ub(1);
+  grpc::ClientContext c2;
+  ASSERT_TRUE(s.stub->CheckNetwork(&c2, q, &r).ok());
+  EXPECT_TRUE(r.dynamic());
+  EXPECT_FALSE(r.strong());
+  cb->set_to("D");
+  grpc::ClientContext c3;
+  auto st = s.stub->CheckNetwork(&c3, q, &r);
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(st.error_message().find("/links/1/to"), std::string::npos) << st.error_message();
+}
+
 TEST(Grpc, DomainsAreCreatedReadDrawnUsedAndDeleted) {
   const std::string data = "/tmp/ctb-grpc-domains-" + std::to_string(getpid());
   GrpcServer s({"--data-dir", data});
