@@ -147,6 +147,7 @@ class LineHandler {
   }
   std::optional<std::string> status;
   bool error_message = false;
+  bool timed_out = false;  // MiniZinc reported its own time limit as an error
   bool overflow_ = false;
 
  private:
@@ -166,8 +167,15 @@ class LineHandler {
     } else if (type == "status") {
       status = j.value("status", "");
     } else if (type == "error") {
+      // MiniZinc's own time limit, when it strikes in flattening under load, comes as an error
+      // whose `what` is "time out": a time-out, not a rejected model (contract: feasible/unknown).
+      const std::string what = j.value("what", "error");
+      if (what.find("time out") != std::string::npos || what.find("timeout") != std::string::npos) {
+        timed_out = true;
+        return;
+      }
       error_message = true;
-      if (r_.error.empty()) r_.error = "the solver rejected the model (" + j.value("what", "error") + ")";
+      if (r_.error.empty()) r_.error = "the solver rejected the model (" + what + ")";
     } else if (type == "statistics" && j.contains("statistics") && j["statistics"].is_object()) {
       for (const auto& [k, v] : j["statistics"].items()) r_.statistics[k] = v;
     }
@@ -370,6 +378,9 @@ RunResult RunMiniZinc(const RunRequest& req) {
     r.status = RunResult::Status::kOptimal;
   } else if (st == "UNSATISFIABLE") {
     r.status = RunResult::Status::kInfeasible;
+  } else if (lines.timed_out && !lines.error_message) {
+    r.status = r.solutions > 0 ? (cancelled ? RunResult::Status::kCancelled : RunResult::Status::kFeasible)
+                               : (cancelled ? RunResult::Status::kCancelled : RunResult::Status::kUnknown);
   } else if (st == "ERROR" || lines.error_message) {
     r.status = RunResult::Status::kError;
     if (r.error.empty()) r.error = "the solver reported an error";

@@ -115,6 +115,41 @@ TEST(RunMiniZinc, DataIsWrittenAsUtf8) {
   EXPECT_EQ(RunMiniZinc(req).status, RunResult::Status::kOptimal);
 }
 
+// MiniZinc under load may report its own time limit, struck during flattening, as an error line
+// `{"type": "error", "what": "time out"}` with status ERROR and exit 1 (issue 31). A stand-in
+// executable prints exactly that: the run is a time-out (unknown), never a rejected model; with a
+// solution already streamed it is feasible. A real model error stays an error.
+std::string FakeMiniZinc(const std::string& name, const std::string& lines, int rc) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << "#!/bin/sh\ncat <<'EOF'\n" << lines << "\nEOF\nexit " << rc << "\n";
+  std::filesystem::permissions(path, std::filesystem::perms::owner_all);
+  return path;
+}
+
+TEST(RunMiniZinc, ItsTimeOutReportedAsAnErrorIsATimeOut) {
+  RunRequest req;
+  req.model = "var 0..1: x; solve satisfy;";
+  req.data = Json::object();
+  req.minizinc = FakeMiniZinc("mzn_timeout", R"({"type": "error", "what": "time out", "message": "time out"}
+{"type": "status", "status": "ERROR"})", 1);
+  RunResult r = RunMiniZinc(req);
+  EXPECT_EQ(r.status, RunResult::Status::kUnknown) << RunStatusName(r.status) << " " << r.error;
+  EXPECT_TRUE(r.error.empty()) << r.error;
+
+  req.minizinc = FakeMiniZinc("mzn_timeout_sol", R"({"type": "solution", "output": {"json": {"x": 1}}}
+{"type": "error", "what": "time out"}
+{"type": "status", "status": "ERROR"})", 1);
+  r = RunMiniZinc(req);
+  EXPECT_EQ(r.status, RunResult::Status::kFeasible) << RunStatusName(r.status) << " " << r.error;
+  EXPECT_EQ(r.solutions, 1);
+
+  req.minizinc = FakeMiniZinc("mzn_type_error", R"({"type": "error", "what": "type error", "message": "undefined identifier"}
+{"type": "status", "status": "ERROR"})", 1);
+  r = RunMiniZinc(req);
+  EXPECT_EQ(r.status, RunResult::Status::kError);
+  EXPECT_NE(r.error.find("type error"), std::string::npos) << r.error;
+}
+
 TEST(MiniZincAvailable, FindsTheInstalledOne) { EXPECT_TRUE(MiniZincAvailable()); }
 
 }  // namespace
