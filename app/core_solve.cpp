@@ -10,6 +10,7 @@
 #include "app/core_impl.h"
 #include "app/ids.h"
 #include "planner/explain/explain.h"
+#include "planner/solve/cancel_watch.h"
 
 namespace ctb::app {
 
@@ -178,38 +179,24 @@ std::variant<Answer, Error> Core::Impl::RunGated(
     ++metrics.solver_rejected;
     return Error{ErrorCode::kBusy, "all solver slots are busy; retry later", {}};
   }
-  std::atomic<bool> job_cancel{false}, done{false};
+  std::atomic<bool> job_cancel{false};
   o.cancel = &job_cancel;
   if (ctx.observer) {
     ctx.observer->OnStage("solving", Json::object());
     Observer* obs = ctx.observer;
     o.on_progress = [obs](const Json& p) { obs->OnSolution(SolutionEvent(p)); };
   }
-  // The watcher trips the job's flag when the front end says so or the core stops; it never
-  // throws (a throw in a thread ends the process) and is joined however the solve ends.
-  std::thread watch([this, &ctx, &job_cancel, &done]() noexcept {
-    try {
-      while (!done) {
-        if (stopping || (ctx.cancelled && ctx.cancelled())) {
-          job_cancel = true;
-          return;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      }
-    } catch (...) {
-      job_cancel = true;
-    }
-  });
+  // The watcher trips the job's flag when the front end says so or the core stops (it polls
+  // them every 100 ms); a finished job wakes it at once, so the answer never waits for a tick.
+  CancelWatch watch(job_cancel, [this, &ctx] { return stopping || (ctx.cancelled && ctx.cancelled()); });
   struct Finish {
-    std::atomic<bool>& done;
-    std::thread& watch;
+    CancelWatch& watch;
     JobGate& gate;
     ~Finish() {
-      done = true;
-      if (watch.joinable()) watch.join();
+      watch.Stop();
       gate.Leave();
     }
-  } finish{done, watch, gate};
+  } finish{watch, gate};
   try {
     auto r = run(o);
     if (auto* e = std::get_if<Error>(&r)) return *e;

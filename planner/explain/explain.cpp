@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -12,6 +13,7 @@
 #include "planner/encode/encoder.h"
 #include "planner/explain/summary.h"
 #include "planner/smt/z3_core.h"
+#include "planner/solve/cancel_watch.h"
 
 namespace ctb {
 
@@ -373,8 +375,8 @@ class Explainer {
     // Feasibility needs one verified plan, not an optimum: without a witness to return, the
     // solve stops at the first plan it keeps (whole problems report each plan; the parts of a
     // split one do not, and are solved to the end). The caller's cancel still applies.
-    std::atomic<bool> stop{false}, found{false}, done{false};
-    std::thread watch;
+    std::atomic<bool> stop{false}, found{false};
+    std::optional<CancelWatch> watch;
     if (!witness) {
       o.cancel = &stop;
       o.on_progress = [&](const Json&) {
@@ -385,16 +387,11 @@ class Explainer {
       // One Gecode strategy: measured faster to a first plan than two sharing the cores
       // (bench/results/impossible.md).
       if (o.search == "portfolio") o.search = "g_first";
-      watch = std::thread([&] {
-        while (!done.load()) {
-          if (so_.cancel && so_.cancel->load()) stop = true;
-          std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-      });
+      watch.emplace(stop, [this] { return so_.cancel && so_.cancel->load(); },
+                    std::chrono::milliseconds(20));
     }
     auto r = Solve(d_, *sp, o);
-    done = true;
-    if (watch.joinable()) watch.join();
+    if (watch) watch->Stop();
     if (found.load()) return Verdict::kFeasible;
     if (!std::holds_alternative<Json>(r)) return Verdict::kUnknown;
     const Json& t = std::get<Json>(r);
