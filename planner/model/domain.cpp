@@ -4,7 +4,9 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <tuple>
 
+#include "planner/expr/expr_print.h"
 #include "planner/model/expr_check.h"
 #include "planner/model/templates.h"
 
@@ -88,11 +90,75 @@ int RequiredCommand(const Expr& e, int self) {
   return 0;
 }
 
+// "distribution": {"kind": "uniform"} or {"kind": "normal", "mean": m, "sd": s}.
+std::optional<Distribution> ReadDistribution(const ObjectReader& parent, const Transition& t,
+                                             Diagnostics& diags) {
+  const Json* j = parent.Get("distribution");
+  ObjectReader r(*j, parent.Child("distribution"), diags);
+  if (!r.valid()) return std::nullopt;
+  r.CheckKeys({"kind", "mean", "sd"});
+  auto kind = r.String("kind", true);
+  if (!kind) return std::nullopt;
+  Distribution dist;
+  if (*kind == "uniform") {
+    if (!r.Has("mean") && !r.Has("sd")) return dist;
+    diags.Error(r.Child(r.Has("mean") ? "mean" : "sd"), "a uniform distribution has no mean or sd");
+    return std::nullopt;
+  }
+  if (*kind != "normal") {
+    diags.Error(r.Child("kind"), "unknown distribution '" + *kind + "' (uniform or normal)");
+    return std::nullopt;
+  }
+  dist.kind = Distribution::Kind::kNormal;
+  auto mean = r.NonNegative("mean", true);
+  auto sd = r.NonNegative("sd", true);
+  if (!mean || !sd) return std::nullopt;
+  if (*sd <= 0) {
+    diags.Error(r.Child("sd"), "sd must be positive");
+    return std::nullopt;
+  }
+  if (*mean < t.duration.lo || *mean > *t.duration.hi)
+    diags.Warning(r.Child("mean"), "the mean lies outside the duration's bounds");
+  dist.mean = *mean;
+  dist.sd = *sd;
+  return dist;
+}
+
+// "contingent": nature picks the firing time in [lo, hi]: not commanded, not controllable, hi
+// finite, guard true (contract section 13). Returns false after recording the errors.
+bool ReadContingent(const ObjectReader& r, Transition& t, Diagnostics& diags) {
+  if (auto c = r.Bool("contingent", false)) t.contingent = *c;
+  if (!t.contingent) {
+    if (r.Has("distribution"))
+      diags.Error(r.Child("distribution"), "only a contingent transition has a distribution");
+    return !r.Has("distribution");
+  }
+  const std::size_t before = diags.errors().size();
+  const std::string at = r.Child("contingent");
+  if (t.commanded)
+    diags.Error(at, "a commanded transition cannot be contingent: its command sets when it fires");
+  else if (t.controllable)
+    diags.Error(at, "a transition is controllable (the planner picks) or contingent (nature "
+                    "picks), not both");
+  else if (t.guard.op != Expr::Op::kTrue)
+    diags.Error(r.Child("guard"), "a contingent transition's guard must be true: nature picks "
+                                  "when it fires, whatever the other automata do");
+  if (!t.duration.hi)
+    diags.Error(r.Child("duration"), "a contingent transition needs a finite upper bound [lo, hi]");
+  if (diags.errors().size() > before) return false;
+  if (r.Has("distribution")) {
+    t.distribution = ReadDistribution(r, t, diags);
+    if (!t.distribution) return false;
+  }
+  return true;
+}
+
 void ReadTransition(const Json& j, const std::string& p, const Domain& d, int self,
                     Automaton& a, Diagnostics& diags) {
   ObjectReader r(j, p, diags);
   if (!r.valid()) return;
-  r.CheckKeys({"from", "to", "guard", "duration", "cost", "controllable"});
+  r.CheckKeys({"from", "to", "guard", "duration", "cost", "controllable", "contingent",
+               "distribution"});
   Transition t;
   t.pointer = p;
   bool ok = true;
@@ -185,7 +251,34 @@ void ReadTransition(const Json& j, const std::string& p, const Domain& d, int se
                 "when it fires");
     ok = false;
   }
+  if (ok) ok = ReadContingent(r, t, diags);
   if (ok) a.transitions.push_back(std::move(t));
+}
+
+// A contingent transition is the only way out of its location: another exit would race with
+// nature's choice (contract section 13).
+void CheckContingentExits(const Automaton& a, Diagnostics& diags) {
+  for (const Transition& c : a.transitions) {
+    if (!c.contingent) continue;
+    for (const Transition& t : a.transitions)
+      if (&t != &c && t.from == c.from)
+        diags.Error(t.pointer, "'" + a.locations[c.from] + "' is left by the contingent transition " +
+                                   c.pointer + ": it can have no other transition out");
+  }
+}
+
+// A transition listed twice (same from, to and guard, as an LLM draft or a pasted edit easily
+// gives) is an error at the second listing: the encoding assumes one transition per choice, and
+// merging would have to guess which duration and cost were meant (issue 30).
+void CheckDuplicateTransitions(const Automaton& a, Diagnostics& diags) {
+  std::map<std::tuple<int, int, std::string>, const Transition*> seen;
+  for (const Transition& t : a.transitions) {
+    auto [it, inserted] = seen.emplace(std::make_tuple(t.from, t.to, PrintSource(t.guard)), &t);
+    if (inserted) continue;
+    diags.Error(t.pointer, "the same transition as " + it->second->pointer + " (" +
+                               a.locations[t.from] + " -> " + a.locations[t.to] +
+                               " with the same guard): list it once, with one duration and cost");
+  }
 }
 
 }  // namespace
@@ -276,6 +369,8 @@ std::optional<Domain> LoadPlainDomain(const Json& j, Diagnostics& diags) {
     for (std::size_t k = 0; k < list->size(); ++k)
       ReadTransition((*list)[k], "/automata/" + std::to_string(i) + "/transitions/" + std::to_string(k),
                      d, static_cast<int>(i), d.automata[i], diags);
+    CheckDuplicateTransitions(d.automata[i], diags);
+    CheckContingentExits(d.automata[i], diags);
   }
   if (diags.errors().size() > errors_before) return std::nullopt;
   return d;
@@ -319,6 +414,26 @@ std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags
   return d;
 }
 
+bool Domain::HasContingent() const {
+  for (const auto& a : automata)
+    for (const auto& t : a.transitions)
+      if (t.contingent) return true;
+  return false;
+}
+
+Domain PlanningDomain(const Domain& d, bool planner_picks) {
+  Domain out = d;
+  for (auto& a : out.automata)
+    for (auto& t : a.transitions) {
+      if (!t.contingent) continue;
+      t.contingent = false;
+      t.distribution.reset();
+      if (planner_picks) t.controllable = true;
+      else t.duration.lo = *t.duration.hi;
+    }
+  return out;
+}
+
 Json DomainToJson(const Domain& d) {
   Json out = {{"name", d.name}, {"description", d.description}};
   if (d.time_resolution != 1.0) out["time_resolution"] = d.time_resolution;
@@ -330,6 +445,14 @@ Json DomainToJson(const Domain& d) {
                  {"duration", {t.duration.lo, t.duration.hi ? Json(*t.duration.hi) : Json()}},
                  {"cost", t.cost}};
       if (t.controllable) tj["controllable"] = true;
+      if (t.contingent) tj["contingent"] = true;
+      if (t.distribution) {
+        tj["distribution"] = {{"kind", t.distribution->kind == Distribution::Kind::kNormal ? "normal" : "uniform"}};
+        if (t.distribution->kind == Distribution::Kind::kNormal) {
+          tj["distribution"]["mean"] = t.distribution->mean;
+          tj["distribution"]["sd"] = t.distribution->sd;
+        }
+      }
       ts.push_back(std::move(tj));
     }
     automata.push_back({{"name", a.name}, {"locations", a.locations}, {"commands", a.commands},

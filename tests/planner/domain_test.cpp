@@ -42,12 +42,93 @@ TEST(LoadDomain, LoadsAndDerivesCommandedTransitions) {
   EXPECT_EQ(dom->automata[1].transitions[0].cost, 1);
 }
 
+// Issue 30: an action model that lists a transition twice was accepted, and every solve with it
+// failed verification. Now the second listing is an error that names the first.
+TEST(LoadDomain, ATransitionListedTwiceIsAnErrorNamingTheFirst) {
+  Json j = Minimal();
+  j["automata"][0]["transitions"].push_back(
+      MustParse(R"({"from": "off", "to": "on", "guard": "lampu[i] == press"})"));
+  Diagnostics d;
+  EXPECT_FALSE(Load(j, d));
+  ASSERT_EQ(d.errors().size(), 1u) << testing::AllErrors(d);
+  EXPECT_TRUE(HasError(d, "/automata/0/transitions/2", "the same transition as /automata/0/transitions/0"))
+      << testing::AllErrors(d);
+  // Same ends with another guard, or another target: two transitions, both kept.
+  Json other = Minimal();
+  other["automata"][1]["transitions"].push_back(
+      MustParse(R"({"from": "shut", "to": "ajar", "guard": "lampl[i]==off"})"));
+  Diagnostics d2;
+  auto dom = Load(other, d2);
+  ASSERT_TRUE(dom) << testing::AllErrors(d2);
+  EXPECT_EQ(dom->automata[1].transitions.size(), 2u);
+}
+
 struct Case {
   const char* what;
   std::function<void(Json&)> mutate;
   std::string pointer;
   std::string message_part;
 };
+
+// Contract section 13: a contingent transition (nature picks when it fires in [lo, hi]).
+TEST(LoadDomain, ContingentTransitionsAndTheirErrors) {
+  Json ok = Minimal();
+  ok["automata"][0]["transitions"][1] = MustParse(
+      R"({"from": "on", "to": "off", "duration": [4, 6], "contingent": true,
+          "distribution": {"kind": "normal", "mean": 5, "sd": 0.5}})");
+  Diagnostics d;
+  auto dom = Load(ok, d);
+  ASSERT_TRUE(dom) << testing::AllErrors(d);
+  const Transition& t = dom->automata[0].transitions[1];
+  EXPECT_TRUE(t.contingent);
+  ASSERT_TRUE(t.distribution);
+  EXPECT_EQ(t.distribution->kind, Distribution::Kind::kNormal);
+  EXPECT_TRUE(dom->HasContingent());
+  // Planned at its longest duration, or as the planner's choice with controllability "none".
+  const Transition& worst = PlanningDomain(*dom, false).automata[0].transitions[1];
+  EXPECT_FALSE(worst.contingent);
+  EXPECT_EQ(worst.duration.lo, 6);
+  EXPECT_FALSE(worst.controllable);
+  const Transition& picked = PlanningDomain(*dom, true).automata[0].transitions[1];
+  EXPECT_TRUE(picked.controllable);
+  EXPECT_EQ(picked.duration.lo, 4);
+  EXPECT_EQ(DomainToJson(*dom)["automata"][0]["transitions"][1]["contingent"], true);
+
+  const std::string t1 = "/automata/0/transitions/1";
+  std::vector<Case> cases = {
+      {"commanded", [](Json& j) { j["automata"][0]["transitions"][0]["contingent"] = true; },
+       "/automata/0/transitions/0/contingent", "a commanded transition cannot be contingent"},
+      {"both", [](Json& j) { j["automata"][0]["transitions"][1]["controllable"] = true; },
+       t1 + "/contingent", "not both"},
+      {"guard", [](Json& j) { j["automata"][0]["transitions"][1]["guard"] = "doorl[i]==ajar"; },
+       t1 + "/guard", "guard must be true"},
+      {"open", [](Json& j) { j["automata"][0]["transitions"][1]["duration"] = {4, nullptr}; },
+       t1 + "/duration", "finite upper bound"},
+      {"kind", [](Json& j) { j["automata"][0]["transitions"][1]["distribution"] = {{"kind", "beta"}}; },
+       t1 + "/distribution/kind", "unknown distribution 'beta'"},
+      {"sd", [](Json& j) { j["automata"][0]["transitions"][1]["distribution"]["sd"] = 0; },
+       t1 + "/distribution/sd", "sd must be positive"},
+      {"uniform with mean",
+       [](Json& j) { j["automata"][0]["transitions"][1]["distribution"] = {{"kind", "uniform"}, {"mean", 5}}; },
+       t1 + "/distribution/mean", "no mean or sd"},
+      {"not contingent", [](Json& j) { j["automata"][0]["transitions"][1].erase("contingent"); },
+       t1 + "/distribution", "only a contingent transition"},
+      {"another exit",
+       [](Json& j) {
+         j["automata"][0]["locations"].push_back("broken");
+         j["automata"][0]["transitions"].push_back({{"from", "on"}, {"to", "broken"}});
+       },
+       "/automata/0/transitions/2", "it can have no other transition out"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.what);
+    Json j = ok;
+    c.mutate(j);
+    Diagnostics dd;
+    EXPECT_FALSE(Load(j, dd));
+    EXPECT_TRUE(HasError(dd, c.pointer, c.message_part)) << testing::AllErrors(dd);
+  }
+}
 
 TEST(LoadDomain, EachErrorKindIsReportedAtItsPointer) {
   std::vector<Case> cases = {

@@ -129,6 +129,14 @@ TEST(Templates, ErrorsInsideALoopNameTheLoopValue) {
   EXPECT_TRUE(HasError(d, "/automata/0/transitions/1/each/to", "unknown location 'atAx'"));
 }
 
+TEST(Templates, ATransitionListedTwiceInATemplateIsAnErrorAtTheTemplate) {
+  Json j = Team();
+  j["automata"][0]["transitions"].push_back(j["automata"][0]["transitions"][0]);
+  Diagnostics d;
+  EXPECT_FALSE(LoadDomain(j, d));
+  EXPECT_TRUE(HasError(d, "/automata/0/transitions/2", "the same transition as")) << AllErrors(d);
+}
+
 TEST(Templates, AnUnchangedGuardKeepsItsOffset) {
   Json j = Team();
   j["automata"][1]["transitions"][0]["guard"] = "hangaru[i]==openItt";

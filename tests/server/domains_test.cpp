@@ -141,6 +141,17 @@ TEST(Domains, BadDocumentsAreRefusedWithPointersAndNothingIsStored) {
   EXPECT_EQ(c.Delete("/domains/presentation")->status, 409);
   EXPECT_EQ(c.Get("/domains/presentation")->status, 200) << "the shipped domain is untouched";
   EXPECT_EQ(c.Post("/domains", "[1]", "application/json")->status, 400);
+  // A transition listed twice (issue 30): refused at the second listing, in /domains and inline
+  // in /solve alike, so no solve ever meets it.
+  Json twice = Drones();
+  twice["automata"][0]["transitions"].push_back(twice["automata"][0]["transitions"][1]);
+  const std::string dup_ptr = "/automata/0/transitions/" +
+                              std::to_string(twice["automata"][0]["transitions"].size() - 1);
+  auto r4 = c.Post("/domains", twice.dump(), "application/json");
+  ASSERT_EQ(r4->status, 400) << r4->body;
+  EXPECT_EQ(Pointers(r4), std::vector<std::string>{dup_ptr}) << r4->body;
+  EXPECT_NE(r4->body.find("the same transition as"), std::string::npos) << r4->body;
+  EXPECT_EQ(c.Get("/domains/drones")->status, 404) << "nothing stored";
   // PUT: the document's name must be the path's; a bad document leaves the stored one.
   ASSERT_EQ(c.Post("/domains", Drones().dump(), "application/json")->status, 201);
   Json renamed = Drones();
