@@ -291,15 +291,21 @@ class Builder {
     PushStage(0);
     std::set<int> moved;
     std::optional<long> event_field;
+    std::vector<int> group_loc = loc_, group_cmd(na, 0);  // the stage before the current event
     for (std::size_t i = 0; i < entries.size(); ++i) {
       const Entry& e = entries[i];
       const bool same = i > 0 && e.time == entries[i - 1].time && !moved.count(e.automaton) &&
-                        !(e.event && event_field && *e.event != *event_field);
+                        !(e.event && event_field && *e.event != *event_field) &&
+                        (e.event || !NeedsItsOwnEvent(e, group_loc, group_cmd));
       if (!same) {
         if (i > 0) PushStage(entries[i - 1].time);
         moved.clear();
         event_field = e.event;
+        group_loc = loc_;
+        group_cmd.assign(na, 0);
       }
+      if (e.transition >= 0 && d_.automata[e.automaton].transitions[e.transition].commanded)
+        group_cmd[e.automaton] = d_.automata[e.automaton].transitions[e.transition].command;
       const int k = static_cast<int>(h.times.size());  // this entry's event index
       const Automaton& au = d_.automata[e.automaton];
       if (loc_[e.automaton] != e.from) {
@@ -323,6 +329,24 @@ class Builder {
     };
     std::sort(h.fired.begin(), h.fired.end(), order);
     std::sort(h.jumps.begin(), h.jumps.end(), order);
+  }
+
+  // Entries at one time without `event` indices are grouped in the listed order: an entry joins
+  // the current event unless its guard fails on the stage before that event and holds on the
+  // stage after the entries listed before it (assembly: arm 2 picks B once block A has left B,
+  // at the same time). So every guard holds wherever the listed order obeys the model.
+  bool NeedsItsOwnEvent(const Entry& e, const std::vector<int>& group_loc,
+                        const std::vector<int>& group_cmd) const {
+    if (e.transition < 0) return false;
+    const Transition& t = d_.automata[e.automaton].transitions[e.transition];
+    auto holds = [&](const std::vector<int>& loc, std::vector<int> cmd) {
+      if (t.commanded) cmd[e.automaton] = t.command;
+      return Evaluate(t.guard, [&](const Expr& atom) {
+        return atom.var_kind == VarKind::kLocation ? loc[atom.target] : cmd[atom.target];
+      });
+    };
+    return !holds(group_loc, group_cmd) &&
+           holds(loc_, std::vector<int>(d_.automata.size(), 0));
   }
 
   // Observations that differ from the history: one event at now.
