@@ -236,6 +236,7 @@ std::string TransitionLabel(const Domain& d, const Automaton& a, const Transitio
   else if (du.lo > 0 || du.hi)
     parts.push_back("[" + Seconds(du.lo) + ", " + (du.hi ? Seconds(*du.hi) : "inf") + "] s");
   if (t.controllable) parts.push_back("(controllable)");
+  if (t.contingent) parts.push_back("(contingent)");
   if (t.cost != 1) parts.push_back("cost " + std::to_string(t.cost));
   std::string out;
   for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? " · " : "") + parts[i];

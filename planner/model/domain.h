@@ -18,6 +18,14 @@ struct Duration {
   std::optional<double> hi;  // nullopt: unbounded
 };
 
+// How nature picks a contingent transition's duration within its bounds (contract section 13):
+// uniform, or a normal distribution truncated to [lo, hi].
+struct Distribution {
+  enum class Kind { kUniform, kNormal };
+  Kind kind = Kind::kUniform;
+  double mean = 0, sd = 0;  // kNormal only
+};
+
 struct Transition {
   int from = -1;  // location indices within the automaton
   int to = -1;
@@ -27,6 +35,11 @@ struct Transition {
   Duration duration;
   long cost = 1;
   bool controllable = false;
+  // Nature, not the planner, picks when it fires, anywhere in `duration` (hi finite; guard true;
+  // the only transition out of its `from` location). Planned for at hi, checked for
+  // controllability over [lo, hi] (contract section 13).
+  bool contingent = false;
+  std::optional<Distribution> distribution;  // contingent only
   bool commanded = false;   // derived: the guard reads the automaton's own command
   int command = 0;          // derived: the command code the guard requires (0: none or several)
   std::string pointer;      // JSON pointer of the transition, for messages
@@ -49,7 +62,13 @@ struct Domain {
   std::vector<Automaton> automata;
 
   int AutomatonIndex(const std::string& n) const;  // -1 when absent
+  bool HasContingent() const;
 };
+
+// The domain the exact and heuristic engines plan with: every contingent transition takes its
+// longest duration ([hi, hi], automatic), the worst case of contract section 13; with
+// `planner_picks` (options.controllability "none") it is controllable in [lo, hi] instead.
+Domain PlanningDomain(const Domain& d, bool planner_picks);
 
 // Loads and checks a domain. Templates (templates.h) are expanded first, with the parameters'
 // declared values; errors in a template point at the template and name the instance. On any

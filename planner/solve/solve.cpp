@@ -9,6 +9,7 @@
 #include "planner/analyze/bounds.h"
 #include "planner/solve/decompose.h"
 #include "planner/solve/engines.h"
+#include "planner/solve/flexible_answer.h"
 #include "planner/solve/horizon_solver.h"
 #include "planner/solve/incumbent.h"
 #include "planner/solve/parts.h"
@@ -45,8 +46,10 @@ void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, 
 Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
                 int max_horizon, long elapsed_ms, const Json& extra_stats,
                 const std::string& solver_name,
-                const std::optional<ObjectiveBounds>& bounds = std::nullopt) {
+                const std::optional<ObjectiveBounds>& bounds = std::nullopt,
+                Trajectory* plan_out = nullptr) {
   const long tps = std::lround(1.0 / d.time_resolution);
+  if (plan_out && c.best) *plan_out = c.best->traj;
   Json out;
   out["status"] = c.status;
   auto seconds = [&](long ticks) {
@@ -164,7 +167,10 @@ std::optional<Error> CheckRepresentable(const Domain& d, const StatePlan& sp, Ob
   return std::nullopt;
 }
 
-std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+namespace {
+
+// Solve with every duration the planner's or fixed (no contingent transition left in d).
+std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   if (auto e = ValidateSolveOptions(o)) return *e;
   const auto t0 = Clock::now();
   const Objective objective = o.objective.value_or(sp.objective);
@@ -212,14 +218,16 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
     c.engine = c.found_by = "heuristic";
     c.proved_by = "lower bound";
     WriteModelOut(d, sp, o, objective, c.horizon);
-    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds);
+    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds,
+                      o.plan_out);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
     if (c && c->error) return *c->error;
     if (c) {
       WriteModelOut(d, sp, o, objective, c->best ? c->best->traj.goal_event : c->horizon);
-      return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver));
+      return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver,
+                                  std::nullopt, o.plan_out));
     }
   }
   SolveOptions mono = o;
@@ -235,7 +243,44 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   if (c.error) return *c.error;
   if (c.first_solution_ms >= 0) c.first_solution_ms += offset;
   if (found_ms >= 0) c.first_solution_ms = found_ms;
-  return WithScope(AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds));
+  return WithScope(
+      AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out));
+}
+
+}  // namespace
+
+const char* ControllabilityName(Controllability c) {
+  switch (c) {
+    case Controllability::kAuto: return "auto";
+    case Controllability::kDynamic: return "dynamic";
+    case Controllability::kStrong: return "strong";
+    case Controllability::kNone: return "none";
+  }
+  return "auto";
+}
+
+std::optional<Controllability> ParseControllability(const std::string& s) {
+  for (auto c : {Controllability::kAuto, Controllability::kDynamic, Controllability::kStrong,
+                 Controllability::kNone})
+    if (s == ControllabilityName(c)) return c;
+  return std::nullopt;
+}
+
+// Contingent transitions are planned for at their longest duration (the worst case) or, with
+// controllability "none", as the planner's choice; the plan's network then carries them as
+// contingent links (planner/flexible, solve/flexible_answer.cpp).
+std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+  Trajectory plan;
+  SolveOptions inner = o;
+  inner.plan_out = &plan;
+  std::optional<Domain> planning;
+  if (d.HasContingent()) planning = PlanningDomain(d, o.controllability == Controllability::kNone);
+  auto r = SolveFixed(planning ? *planning : d, sp, inner);
+  auto* doc = std::get_if<Json>(&r);
+  if (!doc || !doc->value("verified", false)) return r;
+  solve::AddFlexibility(*doc, plan, d, sp, o);
+  if (o.plan_out) *o.plan_out = std::move(plan);
+  return r;
 }
 
 }  // namespace ctb

@@ -27,6 +27,10 @@ constexpr int kMaxHorizonLimit = 200;
 // Gecode's integer variables hold at most this (Gecode::Int::Limits::max).
 constexpr long kSolverIntMax = 2147483646;
 
+enum class Controllability { kAuto, kDynamic, kStrong, kNone };
+const char* ControllabilityName(Controllability c);  // "auto" | "dynamic" | "strong" | "none"
+std::optional<Controllability> ParseControllability(const std::string& s);
+
 struct SolveOptions {
   std::optional<Objective> objective;  // overrides the state plan's
   std::optional<int> horizon;          // a fixed number of events
@@ -47,6 +51,14 @@ struct SolveOptions {
   int portfolio = 2;
   long portfolio_delay_ms = 300;       // the second strategy starts only after this
   std::string model_out;               // when set, the last model is written here (+ .json data)
+  // Local callers (tests, benchmarks, the CLI's simulator): receives the answer's plan, typed,
+  // when the answer has one. Not owned.
+  Trajectory* plan_out = nullptr;
+  // Contingent transitions (contract section 13): the kind of plan asked for. kAuto: dynamic
+  // where the domain has contingent transitions. kNone plans as if the planner picked every
+  // duration; the others plan for the worst case (every contingent duration at its longest) and
+  // report whether the plan's network is strongly and dynamically controllable.
+  Controllability controllability = Controllability::kAuto;
   const std::atomic<bool>* cancel = nullptr;
   // The engine that solves each model; nullptr: MiniZinc with Gecode (backend.h). Not owned.
   SolverBackend* backend = nullptr;

@@ -178,9 +178,11 @@ class Replay {
             if (fi != static_cast<int>(ti))
               Fail(at + ": command '" + au.commands[tr.command > 0 ? tr.command - 1 : 0] +
                    "' was issued but its transition did not fire");
-          } else if (tr.controllable) {
+          } else if (tr.controllable || tr.contingent) {
+            // The planner (controllable) or nature (contingent) picks the time in [lo, hi].
             if (tr.duration.hi && clock > Ticks(*tr.duration.hi))
-              Fail(at + ": controllable transition overstayed its upper bound");
+              Fail(at + ": " + (tr.contingent ? "contingent" : "controllable") +
+                   " transition overstayed its upper bound");
           } else {
             if (now > std::max(before, entry[a] + lo))
               Fail(at + ": automatic transition to '" + au.locations[tr.to] +

@@ -1,0 +1,425 @@
+// The temporal network of a verified trajectory (flexible.h, docs/uncertainty.md).
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <set>
+#include <tuple>
+
+#include "planner/expr/expr_print.h"
+#include "planner/flexible/flexible.h"
+
+namespace ctb::flexible {
+
+namespace {
+
+using network::Link;
+using network::Point;
+using network::PointKind;
+using network::Ticks;
+
+// A set of automata whose transitions keep their plan order, and extra points (the marks of a
+// state plan's events) ordered with them.
+struct Observer {
+  std::set<int> automata;
+  std::vector<int> points;
+  std::string why;
+};
+
+class Deriver {
+ public:
+  Deriver(const Trajectory& t, const Domain& d, const StatePlan& sp, long tps)
+      : t_(t), d_(d), sp_(sp), tps_(tps), ms_per_tick_(1000 / tps) {}
+
+  FlexiblePlan Run() {
+    f_.tps = tps_;
+    f_.rigid = Rigid(f_.rigid_reason);
+    MakePoints();
+    for (std::size_t a = 0; a < d_.automata.size(); ++a) Stays(static_cast<int>(a));
+    Anchors();
+    Orders();
+    if (t_.history) PinHistory();
+    return std::move(f_);
+  }
+
+ private:
+  Ticks Ms(long ticks) const { return static_cast<Ticks>(ticks) * ms_per_tick_; }
+  Ticks MsOf(double seconds) const { return Ms(std::lround(seconds * static_cast<double>(tps_))); }
+
+  // Rigid order where the observers below do not see everything a rule reads.
+  bool Rigid(std::string& why) const {
+    if (t_.history) return (why = "a replan's history"), true;
+    for (const auto& a : d_.automata)
+      for (const auto& tr : a.transitions) {
+        if (tr.commanded) continue;
+        for (int b : tr.guard_info.commands_read)
+          if (b != d_.AutomatonIndex(a.name))
+            return (why = "an automatic transition of '" + a.name + "' reads a command"), true;
+      }
+    return false;
+  }
+
+  int AddPoint(PointKind kind, int event, int automaton, int transition,
+               std::map<std::string, std::string> labels) {
+    Point p;
+    p.id = static_cast<int>(f_.net.points.size());
+    p.kind = kind;
+    p.labels = std::move(labels);
+    f_.net.points.push_back(std::move(p));
+    f_.point_event.push_back(event);
+    f_.point_automaton.push_back(automaton);
+    f_.point_transition.push_back(transition);
+    if (event >= 0 && event < static_cast<int>(at_event_.size()) && automaton >= 0)
+      at_event_[event].push_back(f_.net.points.back().id);
+    return f_.net.points.back().id;
+  }
+
+  // The origin, then one point per transition in event order (automaton order within one).
+  void MakePoints() {
+    at_event_.assign(t_.events.size(), {});
+    AddPoint(PointKind::kOrigin, 0, -1, -1, {});
+    std::vector<FiredTransition> fired = t_.fired;
+    std::stable_sort(fired.begin(), fired.end(), [](const auto& x, const auto& y) {
+      return std::tie(x.event, x.automaton) < std::tie(y.event, y.automaton);
+    });
+    chain_.assign(d_.automata.size(), {});
+    for (const auto& fi : fired) {
+      const Automaton& a = d_.automata[fi.automaton];
+      const Transition& tr = a.transitions[fi.transition];
+      std::map<std::string, std::string> labels = {
+          {"automaton", a.name}, {"from", a.locations[tr.from]}, {"to", a.locations[tr.to]}};
+      if (tr.commanded && tr.command > 0) labels["command"] = a.commands[tr.command - 1];
+      const int p = AddPoint(tr.contingent ? PointKind::kContingent : PointKind::kControllable,
+                             fi.event, fi.automaton, fi.transition, std::move(labels));
+      chain_[fi.automaton].push_back(p);
+    }
+  }
+
+  void AddLink(int from, int to, Ticks lb, std::optional<Ticks> ub, bool contingent,
+               std::string why) {
+    auto key = std::make_tuple(from, to, lb, ub.value_or(-1), ub.has_value(), contingent);
+    if (!seen_.insert(key).second) return;
+    Link l;
+    l.from = from;
+    l.to = to;
+    l.lb = lb;
+    l.ub = ub;
+    l.contingent = contingent;
+    l.why = std::move(why);
+    f_.net.links.push_back(std::move(l));
+  }
+
+  void Tie(int x, int y, const std::string& why) {
+    if (x == y) return;
+    AddLink(x, y, 0, Ticks{0}, false, why);
+    f_.same_event.emplace_back(x, y);
+  }
+
+  void Order(int x, int y, const std::string& why) {
+    if (x == y) return;
+    AddLink(x, y, 0, std::nullopt, false, why);
+    f_.before.emplace_back(x, y);
+  }
+
+  std::string TransitionName(int a, int ti) const {
+    const Automaton& au = d_.automata[a];
+    const Transition& tr = au.transitions[ti];
+    return au.name + " " + au.locations[tr.from] + "->" + au.locations[tr.to];
+  }
+
+  bool GuardOn(const Transition& tr, int stage) const {
+    return Evaluate(tr.guard, [&](const Expr& atom) {
+      return atom.var_kind == VarKind::kLocation ? t_.locations[atom.target][stage]
+                                                 : t_.commands[atom.target][stage];
+    });
+  }
+
+  // A point at plan event k of an automaton in `among` (any point at k when none); -1 if none.
+  int PointAt(int k, const std::set<int>& among) const {
+    if (k <= 0) return 0;
+    if (k >= static_cast<int>(at_event_.size()) || at_event_[k].empty()) return -1;
+    for (int p : at_event_[k])
+      if (among.count(f_.point_automaton[p])) return p;
+    return at_event_[k].front();
+  }
+
+  // Every stay of automaton a: from its entry (a point, or the origin at time 0) to its exit
+  // (the next transition's point, or the goal).
+  void Stays(int a) {
+    const Automaton& au = d_.automata[a];
+    int entry = 0, entry_event = 0;
+    const auto& chain = chain_[a];
+    for (std::size_t i = 0; i <= chain.size(); ++i) {
+      const int exit = i < chain.size() ? chain[i] : -1;
+      const int exit_event = exit >= 0 ? f_.point_event[exit] : t_.goal_event;
+      const int loc = t_.locations[a][entry_event];
+      if (exit >= 0) {
+        const Transition& tr = au.transitions[f_.point_transition[exit]];
+        const Ticks lo = MsOf(tr.duration.lo);
+        const std::optional<Ticks> hi =
+            tr.duration.hi ? std::optional(MsOf(*tr.duration.hi)) : std::nullopt;
+        AddLink(entry, exit, lo, hi, tr.contingent,
+                "duration " + TransitionName(a, f_.point_transition[exit]));
+      }
+      for (std::size_t ti = 0; ti < au.transitions.size(); ++ti) {
+        const Transition& tr = au.transitions[ti];
+        if (tr.from != loc || tr.commanded) continue;
+        const bool fires = exit >= 0 && f_.point_transition[exit] == static_cast<int>(ti);
+        Enabled(a, static_cast<int>(ti), entry, entry_event, exit, exit_event, fires);
+      }
+      if (exit < 0) break;
+      entry = exit;
+      entry_event = exit_event;
+    }
+  }
+
+  // The rules of an automatic or controllable transition `ti` of automaton a over one stay,
+  // wherever its guard holds (stages entry_event .. exit_event - 1).
+  void Enabled(int a, int ti, int entry, int entry_event, int exit, int exit_event, bool fires) {
+    const Transition& tr = d_.automata[a].transitions[ti];
+    const std::string name = TransitionName(a, ti);
+    const Ticks lo = MsOf(tr.duration.lo);
+    std::set<int> reads(tr.guard_info.locations_read.begin(), tr.guard_info.locations_read.end());
+    for (int k = entry_event + 1; k <= exit_event; ++k) {
+      if (!GuardOn(tr, k - 1)) continue;
+      const int start = k - 1;  // the guard holds from the event before k ...
+      while (k + 1 <= exit_event && GuardOn(tr, k)) ++k;
+      const int last = k;  // ... up to event `last` (its stage before holds)
+      const int last_point = last == exit_event && exit >= 0 ? exit : PointAt(last, reads);
+      if (tr.controllable || tr.contingent) {
+        // Its duration link bounds the stay when it fires; otherwise no stage it is enabled on
+        // may last past hi. (The point at `last` follows entry in plan order: lb 0 holds.)
+        if (tr.duration.hi && last_point >= 0 && !(fires && last == exit_event))
+          AddLink(entry, last_point, 0, MsOf(*tr.duration.hi), false, "no overstay " + name);
+        continue;
+      }
+      if (fires && last == exit_event) {
+        Due(a, ti, entry, start, exit, lo, reads, name);
+      } else if (last_point >= 0) {
+        // Held without firing: the clock stays below lo until the guard stops holding.
+        AddLink(entry, last_point, 0, lo - ms_per_tick_, false, "not yet due " + name);
+      } else {
+        Pin(entry);
+      }
+    }
+  }
+
+  // An automatic transition fires when due: at entry + lo (its duration the cause), or at the
+  // event that made its guard true (that event the cause), as in the plan.
+  void Due(int a, int ti, int entry, int start, int exit, Ticks lo, const std::set<int>& reads,
+           const std::string& name) {
+    const long te = t_.events[f_.point_event[exit]];
+    const long tentry = t_.events[f_.point_event[entry]];
+    const Ticks lo_ticks = lo / ms_per_tick_;
+    if (te == tentry + lo_ticks) {
+      AddLink(entry, exit, lo, lo, false, "due at its duration " + name);
+      return;
+    }
+    const int cause = start > f_.point_event[entry] ? PointAt(start, reads) : -1;
+    if (cause >= 0 && t_.events[start] == te) {
+      AddLink(cause, exit, 0, Ticks{0}, false, "due when its guard holds " + name);
+      f_.before.emplace_back(cause, exit);
+      return;
+    }
+    (void)a;
+    (void)ti;
+    Pin(exit);
+  }
+
+  // A point held at its plan time (what the rules here cannot free).
+  void Pin(int p) {
+    const Ticks at = Ms(t_.events[f_.point_event[p]]);
+    AddLink(0, p, at, at, false, "fixed at its plan time");
+  }
+
+  void PinHistory() {
+    const int p = t_.history->events();
+    for (std::size_t x = 1; x < f_.net.points.size(); ++x)
+      if (f_.point_event[x] <= p) AddLink(0, static_cast<int>(x), Ms(t_.events[f_.point_event[x]]),
+                                          Ms(t_.events[f_.point_event[x]]), false, "executed");
+  }
+
+  static void AddReads(const Condition& c, std::set<int>& out) {
+    out.insert(c.raw_info.locations_read.begin(), c.raw_info.locations_read.end());
+    out.insert(c.raw_info.commands_read.begin(), c.raw_info.commands_read.end());
+  }
+
+  // The points marking the state plan's events, their links, and the observers they join. A
+  // condition that reads an accepting automaton (an episode's or temporal constraint's state)
+  // sees it change at that automaton's marks: they join its observer.
+  void Anchors() {
+    std::vector<std::set<int>> ep_reads, tc_reads;
+    for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+      const Episode& ep = sp_.episodes[p];
+      ep_reads.emplace_back();
+      AddReads(ep.accepting, ep_reads.back());
+      AddReads(ep.state, ep_reads.back());
+      f_.episode_points.emplace_back(PointAt(t_.episodes[p].first, ep_reads.back()),
+                                     PointAt(t_.episodes[p].second, ep_reads.back()));
+    }
+    for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+      const Temporal& tc = sp_.temporals[q];
+      tc_reads.emplace_back();
+      AddReads(tc.event1, tc_reads.back());
+      AddReads(tc.event2, tc_reads.back());
+      f_.temporal_points.emplace_back(PointAt(t_.temporals[q].first, tc_reads.back()),
+                                      PointAt(t_.temporals[q].second, tc_reads.back()));
+    }
+    for (std::size_t p = 0; p < sp_.episodes.size(); ++p) EpisodeLinks(p, ep_reads[p]);
+    for (std::size_t q = 0; q < sp_.temporals.size(); ++q) TemporalLinks(q, tc_reads[q]);
+    SharedEvents();
+    Goal();
+    Observer m;
+    AddReads(sp_.maintenance, m.automata);
+    AddMarksRead(sp_.maintenance, m);
+    m.why = "/end_state/maintenance_constraint";
+    condition_observers_.push_back(m);
+  }
+
+  // The marks of the accepting automata a condition reads join its observer.
+  void AddMarksRead(const Condition& c, Observer& o) const {
+    for (int p : c.raw_info.episodes_read)
+      for (int x : {f_.episode_points[p].first, f_.episode_points[p].second})
+        if (x > 0) o.points.push_back(x);
+    for (int q : c.raw_info.temporals_read)
+      for (int x : {f_.temporal_points[q].first, f_.temporal_points[q].second})
+        if (x > 0) o.points.push_back(x);
+  }
+
+  void EpisodeLinks(std::size_t p, const std::set<int>& reads) {
+    const Episode& ep = sp_.episodes[p];
+    const auto [s, e] = f_.episode_points[p];
+    if (s < 0 || e < 0) return;
+    Observer o;
+    o.automata = reads;
+    o.why = "/constraints/episodes/" + PointerToken(ep.name);
+    AddLink(s, e, MsOf(ep.lower), MsOf(ep.upper), false, o.why);
+    o.points = {s, e};
+    AddMarksRead(ep.accepting, o);
+    AddMarksRead(ep.state, o);
+    condition_observers_.push_back(o);
+  }
+
+  void TemporalLinks(std::size_t q, const std::set<int>& reads) {
+    const Temporal& tc = sp_.temporals[q];
+    const auto [p1, p2] = f_.temporal_points[q];
+    if (p1 < 0 || p2 < 0) return;
+    Observer o;
+    o.automata = reads;
+    o.why = "/constraints/temporal/" + PointerToken(tc.name);
+    auto [k1, k2] = t_.temporals[q];
+    if (p1 == p2) AddLink(0, p1, 0, std::nullopt, false, o.why);  // both at once: [0, 0] apart
+    else if (k1 <= k2) AddLink(p1, p2, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
+    else AddLink(p2, p1, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
+    o.points = {p1, p2};
+    AddMarksRead(tc.event1, o);
+    AddMarksRead(tc.event2, o);
+    condition_observers_.push_back(o);
+  }
+
+  void SharedEvents() {
+    for (const auto& ev : sp_.events) {
+      std::vector<int> pts;
+      for (const auto& e : ev.endpoints) {
+        const auto& pr = e.kind == EndpointKind::kEpisodeStart || e.kind == EndpointKind::kEpisodeEnd
+                             ? f_.episode_points[e.index]
+                             : f_.temporal_points[e.index];
+        const bool first = e.kind == EndpointKind::kEpisodeStart || e.kind == EndpointKind::kEvent1;
+        pts.push_back(first ? pr.first : pr.second);
+      }
+      for (std::size_t i = 1; i < pts.size(); ++i)
+        if (pts[0] >= 0 && pts[i] >= 0)
+          Tie(pts[0], pts[i], "/constraints/event/" + PointerToken(ev.name));
+    }
+  }
+
+  // The goal's event is the last: every point before it; its points one event; its reads, the
+  // episodes' and temporal constraints' marks keep their order with it.
+  void Goal() {
+    const std::string why = "/end_state/goal_constraint";
+    const int g = t_.goal_event;
+    Observer o;
+    AddReads(sp_.goal, o.automata);
+    AddMarksRead(sp_.goal, o);
+    o.why = why;
+    if (g <= 0 || at_event_[g].empty()) {
+      f_.goal_point = 0;
+      return;
+    }
+    const auto& goal_points = at_event_[g];
+    f_.goal_point = goal_points.front();
+    for (std::size_t i = 1; i < goal_points.size(); ++i) Tie(goal_points[0], goal_points[i], why);
+    for (const auto& chain : chain_)
+      if (!chain.empty() && f_.point_event[chain.back()] < g) Order(chain.back(), f_.goal_point, why);
+    for (const auto& [s, e] : f_.episode_points)
+      if (e > 0) o.points.push_back(e);
+    for (const auto& [p1, p2] : f_.temporal_points)
+      for (int p : {p1, p2})
+        if (p > 0) o.points.push_back(p);
+    o.points.push_back(f_.goal_point);
+    condition_observers_.push_back(o);
+  }
+
+  // Each observer's points in plan order: one event -> one event; else the same order.
+  void Orders() {
+    std::vector<Observer> observers = condition_observers_;
+    const int na = static_cast<int>(d_.automata.size());
+    if (f_.rigid) {
+      Observer all;
+      for (int a = 0; a < na; ++a) all.automata.insert(a);
+      all.why = "rigid order: " + f_.rigid_reason;
+      for (auto& o : observers) all.points.insert(all.points.end(), o.points.begin(), o.points.end());
+      observers = {all};
+    }
+    for (int a = 0; a < na && !f_.rigid; ++a) {
+      Observer o;
+      o.automata.insert(a);
+      for (const auto& tr : d_.automata[a].transitions) {
+        o.automata.insert(tr.guard_info.locations_read.begin(), tr.guard_info.locations_read.end());
+        o.automata.insert(tr.guard_info.commands_read.begin(), tr.guard_info.commands_read.end());
+      }
+      o.why = "guards of " + d_.automata[a].name + " read these";
+      observers.push_back(o);
+    }
+    for (const Observer& o : observers) Keep(o);
+  }
+
+  void Keep(const Observer& o) {
+    std::vector<int> pts = o.points;
+    for (std::size_t p = 1; p < f_.net.points.size(); ++p)
+      if (o.automata.count(f_.point_automaton[p])) pts.push_back(static_cast<int>(p));
+    std::sort(pts.begin(), pts.end(), [&](int x, int y) {
+      return std::make_pair(f_.point_event[x], x) < std::make_pair(f_.point_event[y], y);
+    });
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    for (std::size_t i = 1; i < pts.size(); ++i) {
+      const int x = pts[i - 1], y = pts[i];
+      if (x == 0) continue;
+      if (f_.point_event[x] == f_.point_event[y]) Tie(x, y, o.why);
+      else Order(x, y, o.why);
+    }
+  }
+
+  const Trajectory& t_;
+  const Domain& d_;
+  const StatePlan& sp_;
+  const long tps_;
+  const Ticks ms_per_tick_;
+  FlexiblePlan f_;
+  std::vector<std::vector<int>> at_event_;  // points per plan event
+  std::vector<std::vector<int>> chain_;     // points per automaton, in event order
+  std::vector<Observer> condition_observers_;
+  std::set<std::tuple<int, int, Ticks, Ticks, bool, bool>> seen_;
+};
+
+}  // namespace
+
+std::optional<FlexiblePlan> DeriveNetwork(const Trajectory& t, const Domain& d, const StatePlan& sp,
+                                          long tps, std::string* why_not) {
+  if (tps < 1 || tps > network::kTicksPerSecond || network::kTicksPerSecond % tps != 0) {
+    if (why_not) *why_not = "the domain's time_resolution is not a whole number of milliseconds";
+    return std::nullopt;
+  }
+  return Deriver(t, d, sp, tps).Run();
+}
+
+}  // namespace ctb::flexible
