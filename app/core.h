@@ -77,6 +77,9 @@ struct RequestOptions {
   std::optional<long> time_limit_ms;
   std::optional<long> horizon;
   std::optional<long> max_horizon;
+  // Contingent transitions (contract section 13): dynamic | strong | none; default: dynamic
+  // where the domain has contingent transitions.
+  std::optional<std::string> controllability;
 };
 
 // A domain by name, or an inline action model (exactly one); or, from a trusted local caller (the

@@ -95,7 +95,7 @@ std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
   RequestOptions r;
   Diagnostics d;
   ObjectReader reader(options, "/options", d);
-  reader.CheckKeys({"time_limit_ms", "horizon", "max_horizon", "objective"});
+  reader.CheckKeys({"time_limit_ms", "horizon", "max_horizon", "objective", "controllability"});
   auto integer = [&](const char* k, std::optional<long>& out) {
     const Json* v = reader.Get(k);
     if (!v) return;
@@ -106,6 +106,7 @@ std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
   integer("horizon", r.horizon);
   integer("max_horizon", r.max_horizon);
   if (auto ob = reader.String("objective", false)) r.objective = *ob;
+  if (auto c = reader.String("controllability", false)) r.controllability = *c;
   if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
   return r;
 }
@@ -158,6 +159,11 @@ std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& 
   if (r.objective) {
     o.objective = ParseObjective(*r.objective);
     if (!o.objective) d.Error("/options/objective", "must be cost, makespan or cost_then_makespan");
+  }
+  if (r.controllability) {
+    auto c = ParseControllability(*r.controllability);
+    if (c && *c != Controllability::kAuto) o.controllability = *c;
+    else d.Error("/options/controllability", "must be dynamic, strong or none");
   }
   if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
   return o;

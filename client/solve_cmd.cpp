@@ -12,7 +12,7 @@ namespace ctb::cli {
 
 namespace {
 struct SolveCliOptions {
-  std::string domain, file, config_dir, objective;
+  std::string domain, file, config_dir, objective, controllability;
   long time_limit_ms = 60000;
   std::optional<int> horizon;
   int max_horizon = 32;
@@ -49,6 +49,7 @@ int RunRemoteSolve(const SolveCliOptions& o) {
   }
   Json options = {{"time_limit_ms", o.time_limit_ms}};
   if (!o.objective.empty()) options["objective"] = o.objective;
+  if (!o.controllability.empty()) options["controllability"] = o.controllability;
   if (o.horizon) options["horizon"] = *o.horizon;
   else options["max_horizon"] = o.max_horizon;
   body["options"] = options;
@@ -90,6 +91,7 @@ int RunSolve(const SolveCliOptions& o) {
   call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
   call.state_plan = *json;
   if (!o.objective.empty()) call.options.objective = o.objective;
+  if (!o.controllability.empty()) call.options.controllability = o.controllability;
   call.options.time_limit_ms = o.time_limit_ms;
   if (o.horizon) call.options.horizon = *o.horizon;
   else call.options.max_horizon = o.max_horizon;
@@ -123,6 +125,9 @@ Runner AddSolve(CLI::App& app) {
   sub->add_option("--domain", o->domain, "Domain name or path")->required();
   sub->add_option("file", o->file, "State plan JSON file")->required();
   sub->add_option("--objective", o->objective, "cost, makespan or cost_then_makespan");
+  sub->add_option("--controllability", o->controllability,
+                  "contingent transitions: dynamic (default where there are any), strong or none")
+      ->check(CLI::IsMember({"dynamic", "strong", "none"}));
   sub->add_option("--time-limit-ms", o->time_limit_ms, "Time limit for the whole solve")
       ->check(CLI::Range(1L, 3600L * 1000));
   auto* h = sub->add_option("--horizon", o->horizon, "Fixed number of events")

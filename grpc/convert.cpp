@@ -64,6 +64,7 @@ app::RequestOptions OptionsOf(const pb::Options& o) {
   if (o.has_time_limit_ms()) r.time_limit_ms = o.time_limit_ms();
   if (o.has_horizon()) r.horizon = o.horizon();
   if (o.has_max_horizon()) r.max_horizon = o.max_horizon();
+  if (o.has_controllability()) r.controllability = o.controllability();
   return r;
 }
 
