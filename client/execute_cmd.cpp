@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "client/commands.h"
+#include "client/execute_sample.h"
 #include "client/replan_common.h"
 #include "planner/replan/replan.h"
 
@@ -31,6 +32,10 @@ struct ExecuteCliOptions {
   bool json = false;
   double speed = 1;
   long time_limit_ms = 60000;
+  // --sample: simulated executions of the flexible plan (client/execute_sample.h).
+  std::string sample, dispatch = "dynamic", controllability;
+  unsigned seed = 1;
+  int runs = 1;
 };
 
 struct Fault {
@@ -302,6 +307,11 @@ class Executor {
 };
 
 int RunExecute(const ExecuteCliOptions& o) {
+  if (!o.sample.empty()) {
+    SampleOptions s{o.domain, o.file, o.config_dir, o.objective, o.controllability, o.sample,
+                    o.dispatch, o.seed, o.runs, o.json, o.time_limit_ms};
+    return RunSampledExecutions(s);
+  }
   auto loaded = LoadProblem(o.domain, o.config_dir, o.file);
   if (auto* e = std::get_if<Error>(&loaded)) {
     PrintError(*e);
@@ -335,6 +345,21 @@ Runner AddExecute(CLI::App& app) {
   sub->add_option("--time-limit-ms", o->time_limit_ms, "Time limit of each (re)plan")
       ->check(CLI::Range(1L, 3600L * 1000));
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
+  sub->add_option("--sample", o->sample,
+                  "Simulate executions of the flexible plan instead (no waiting): contingent "
+                  "durations drawn uniformly or from their distributions")
+      ->check(CLI::IsMember({"uniform", "distribution"}));
+  sub->add_option("--runs", o->runs, "With --sample: how many executions (default 1)")
+      ->check(CLI::Range(1, 1000000));
+  sub->add_option("--seed", o->seed, "With --sample: the random seed (default 1)");
+  sub->add_option("--dispatch", o->dispatch,
+                  "With --sample: dynamic (default: what happened decides what starts next) or "
+                  "fixed (every start at its planned time)")
+      ->check(CLI::IsMember({"dynamic", "fixed"}));
+  sub->add_option("--controllability", o->controllability,
+                  "dynamic (default where there are contingent transitions), strong or none "
+                  "(plan as if every duration were the planner's, to measure how often it fails)")
+      ->check(CLI::IsMember({"dynamic", "strong", "none"}));
   return [o, sub]() { return sub->parsed() ? RunExecute(*o) : -1; };
 }
 

@@ -3,10 +3,13 @@
 // independent verifier accepts it). Real minizinc and Gecode.
 #include "planner/flexible/flexible.h"
 
+#include "planner/flexible/dispatch.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <random>
+#include <set>
 
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
@@ -193,6 +196,45 @@ TEST(Uncertainty, TwoUncertainDevicesTogetherAreNotControllable) {
   ASSERT_EQ(none["status"], "optimal") << none.dump();
   EXPECT_EQ(none["objective"]["value"], 20);  // warm-up picked at 20 s, boot within it
   EXPECT_EQ(none["controllability"]["asked"], "none");
+}
+
+// Monte-Carlo (contract section 13): 10,000 executions of the dynamically controllable plan
+// above, nature drawing the warm-up in [20, 40] s: dispatched dynamically, every realized
+// trajectory meets every link and passes the verifier; dispatched at the plan's fixed times
+// (turn-off at 50 s), the 10 s episode breaks whenever the warm-up is not 40 s.
+TEST(Uncertainty, DynamicDispatchOfAControllablePlanNeverFails) {
+  const Domain d = UncertainPresentation();
+  Diagnostics diags;
+  auto sp = LoadStatePlan(Json::parse(std::string("{") + kOff + R"(,
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "projl[i+1]==projConfirm"},
+    "constraints": {"temporal": {}, "event": {}, "episodes": {"OnTen": {
+      "accepting_constraint": "projl[i]==projOn", "state_constraint": "projl[i]==projOn",
+      "lower_bound": 10, "upper_bound": 10}}}, "objective": "makespan"})"), d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  SolveOptions o;
+  Trajectory plan;
+  o.plan_out = &plan;
+  ASSERT_TRUE(std::holds_alternative<Json>(Solve(d, *sp, o)));
+  auto f = flexible::DeriveNetwork(plan, d, *sp, 1);
+  ASSERT_TRUE(f);
+  const std::vector<Ticks> planned = PlanTimes(*f, plan);
+  std::mt19937 rng(11);
+  flexible::DispatchOptions dynamic, fixed;
+  fixed.dynamic = false;
+  int dynamic_failures = 0, fixed_failures = 0;
+  std::set<Ticks> warmups;
+  for (int run = 0; run < 10000; ++run) {
+    flexible::Execution e = flexible::Execute(*f, d, planned, dynamic, rng);
+    auto t = e.met ? flexible::ScheduleToTrajectory(*f, plan, e.times) : std::nullopt;
+    const bool ok = t && VerifyTrajectory(*t, d, *sp, 1).empty();
+    if (!ok && ++dynamic_failures == 1) ADD_FAILURE() << "run " << run << ": " << e.why;
+    if (t) warmups.insert(t->events.back() - 10);
+  }
+  for (int run = 0; run < 1000; ++run)
+    fixed_failures += flexible::Execute(*f, d, planned, fixed, rng).met ? 0 : 1;
+  EXPECT_EQ(dynamic_failures, 0);
+  EXPECT_GT(warmups.size(), 15u) << "nature drew many warm-ups (21 whole seconds possible)";
+  EXPECT_GT(fixed_failures, 800) << "fixed times hold only when the warm-up takes 40 s (1 in 21)";
 }
 
 }  // namespace
