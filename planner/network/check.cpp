@@ -7,29 +7,32 @@
 
 namespace ctb::network {
 
-bool IsConsistent(const Network& net, std::vector<int>* cycle) {
+bool IsConsistent(const Network &net, std::vector<int> *cycle) {
   const std::vector<internal::StnEdge> edges = internal::DistanceEdges(net);
   std::vector<int> cycle_edges;
-  if (internal::BellmanFord(static_cast<int>(net.points.size()), edges, nullptr, &cycle_edges)) {
+  if (internal::BellmanFord(static_cast<int>(net.points.size()), edges, nullptr,
+                            &cycle_edges)) {
     return true;
   }
   if (cycle) {
     cycle->clear();
-    for (int e : cycle_edges) cycle->push_back(edges[static_cast<std::size_t>(e)].link);
+    for (int e : cycle_edges)
+      cycle->push_back(edges[static_cast<std::size_t>(e)].link);
     std::sort(cycle->begin(), cycle->end());
     cycle->erase(std::unique(cycle->begin(), cycle->end()), cycle->end());
   }
   return false;
 }
 
-CheckResult CheckNetwork(const Network& net) {
+CheckResult CheckNetwork(const Network &net) {
   const auto start = std::chrono::steady_clock::now();
   CheckResult r;
   r.consistent = IsConsistent(net, &r.conflict);
   if (r.consistent) {
     r.strong = IsStronglyControllable(net);
     r.dynamic = IsDynamicallyControllable(net, &r.conflict);
-  } else if (r.conflict.empty()) {  // Bellman-Ford stopped at its bound without a cycle
+  } else if (r.conflict.empty()) { // Bellman-Ford stopped at its bound without
+                                   // a cycle
     IsDynamicallyControllable(net, &r.conflict);
   }
   const auto end = std::chrono::steady_clock::now();
@@ -37,4 +40,4 @@ CheckResult CheckNetwork(const Network& net) {
   return r;
 }
 
-}  // namespace ctb::network
+} // namespace ctb::network
