@@ -4,9 +4,9 @@ and 10,000 points, and writes bench/results/network_check.{md,json}.
 
 The networks look like plans: points on a hidden timeline; each point after the first is linked
 from one of the 8 points before it, by a contingent link (20%, [d-w, d+w] around the hidden
-duration d) or a requirement link (bounds around d with random slack, ub sometimes +inf); two
-more requirement links per point to random points at most 20 before it; 1% of points get a
-deadline from point 0. Families: `loose` (wide slack: dynamically controllable) and `tight`
+duration d, w <= slack/8) or a requirement link (bounds d -/+ slack/2..slack, ub sometimes +inf);
+two more requirement links per point from random points at most 20 before it (d -/+
+slack..3 slack); 1% of points get a deadline from point 0 (its hidden time + 5 slack). Families: `loose` (wide slack: dynamically controllable) and `tight`
 (narrow slack: mostly not). Times: the check's own `ms` (parse excluded) and the process's wall
 time (reading and parsing the file included).
 
@@ -34,18 +34,18 @@ def network(n, seed, slack):
         i = rng.randint(max(0, j - 8), j - 1)
         d = t[j] - t[i]
         if rng.random() < 0.2 and j not in contingent_end:
-            w = rng.randint(0, max(1, d // 4))
+            w = rng.randint(0, max(1, min(d // 4, slack // 8)))
             links.append({"from": f"p{i}", "to": f"p{j}", "lb": max(0, d - w), "ub": d + w,
                           "contingent": True})
             contingent_end.add(j)
         else:
-            links.append({"from": f"p{i}", "to": f"p{j}", "lb": d - rng.randint(0, slack),
-                          "ub": None if rng.random() < 0.3 else d + rng.randint(0, slack)})
+            links.append({"from": f"p{i}", "to": f"p{j}", "lb": d - rng.randint(slack // 2, slack),
+                          "ub": None if rng.random() < 0.3 else d + rng.randint(slack // 2, slack)})
         for _ in range(2):
             k = rng.randint(max(0, j - 20), j - 1)
             d = t[j] - t[k]
-            links.append({"from": f"p{k}", "to": f"p{j}", "lb": d - rng.randint(0, 3 * slack),
-                          "ub": None if rng.random() < 0.5 else d + rng.randint(0, 3 * slack)})
+            links.append({"from": f"p{k}", "to": f"p{j}", "lb": d - rng.randint(slack, 3 * slack),
+                          "ub": None if rng.random() < 0.5 else d + rng.randint(slack, 3 * slack)})
         if rng.random() < 0.01:
             links.append({"from": "p0", "to": f"p{j}", "lb": 0, "ub": t[j] + 5 * slack})
     return {"points": [f"p{i}" for i in range(n)], "links": links}
