@@ -12,16 +12,12 @@ std::optional<Error> TooLarge(const Json &body) {
   auto over = [](const char *name, const char *field, std::size_t limit,
                  std::size_t actual) -> Error {
     Error e{ErrorCode::kTooLarge,
-            std::string("the network has more ") + field + " than " +
-                std::to_string(limit),
-            {{std::string("/") + field, std::nullopt,
-              "at most " + std::to_string(limit)}}};
-    e.limit =
-        Json({{"name", name}, {"value", limit}, {"actual", actual}}).dump();
+            std::string("the network has more ") + field + " than " + std::to_string(limit),
+            {{std::string("/") + field, std::nullopt, "at most " + std::to_string(limit)}}};
+    e.limit = Json({{"name", name}, {"value", limit}, {"actual", actual}}).dump();
     return e;
   };
-  if (!body.is_object())
-    return std::nullopt;
+  if (!body.is_object()) return std::nullopt;
   if (auto it = body.find("points");
       it != body.end() && it->is_array() && it->size() > kMaxNetworkPoints) {
     return over("max_network_points", "points", kMaxNetworkPoints, it->size());
@@ -33,21 +29,16 @@ std::optional<Error> TooLarge(const Json &body) {
   return std::nullopt;
 }
 
-} // namespace
+}  // namespace
 
 std::variant<Json, Error> CheckNetworkBody(const Json &body) {
-  if (std::optional<Error> e = TooLarge(body))
-    return *e;
+  if (std::optional<Error> e = TooLarge(body)) return *e;
   Diagnostics d;
   std::optional<network::Network> net = network::ParseCheckBody(body, d);
-  if (!net)
-    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid network",
-                                  d);
+  if (!net) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid network", d);
   return network::CheckResultToJson(network::CheckNetwork(*net));
 }
 
-std::variant<Json, Error> Core::CheckNetwork(const Json &body) {
-  return CheckNetworkBody(body);
-}
+std::variant<Json, Error> Core::CheckNetwork(const Json &body) { return CheckNetworkBody(body); }
 
-} // namespace ctb::app
+}  // namespace ctb::app

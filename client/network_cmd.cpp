@@ -18,12 +18,10 @@ struct NetworkOptions {
 int RunCheck(const NetworkOptions &o) {
   Diagnostics d;
   ParseLimits limits;
-  limits.max_bytes = std::size_t{64}
-                     << 20; // a local file: larger than the server's 4 MiB
+  limits.max_bytes = std::size_t{64} << 20;  // a local file: larger than the server's 4 MiB
   std::optional<Json> body = ReadJsonFile(o.file, d, limits);
   if (!body) {
-    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput,
-                                      "cannot read " + o.file, d));
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + o.file, d));
     return 1;
   }
   auto r = app::CheckNetworkBody(*body);
@@ -35,21 +33,16 @@ int RunCheck(const NetworkOptions &o) {
   return 0;
 }
 
-} // namespace
+}  // namespace
 
 Runner AddNetwork(CLI::App &app) {
   auto o = std::make_shared<NetworkOptions>();
-  CLI::App *sub =
-      app.add_subcommand("network", "Temporal networks with uncertainty");
+  CLI::App *sub = app.add_subcommand("network", "Temporal networks with uncertainty");
   sub->require_subcommand(1);
   CLI::App *check = sub->add_subcommand(
-      "check",
-      "Check a network's consistency and strong/dynamic controllability");
-  check
-      ->add_option("FILE", o->file,
-                   "{\"points\": [...], \"links\": [...]} as JSON")
-      ->required();
+      "check", "Check a network's consistency and strong/dynamic controllability");
+  check->add_option("FILE", o->file, "{\"points\": [...], \"links\": [...]} as JSON")->required();
   return [o, check]() { return check->parsed() ? RunCheck(*o) : -1; };
 }
 
-} // namespace ctb::cli
+}  // namespace ctb::cli

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "planner/network/dynamic_internal.h"
 #include "planner/network/stn.h"
 
 namespace ctb::network {
@@ -10,18 +11,20 @@ namespace ctb::network {
 bool IsConsistent(const Network &net, std::vector<int> *cycle) {
   const std::vector<internal::StnEdge> edges = internal::DistanceEdges(net);
   std::vector<int> cycle_edges;
-  if (internal::BellmanFord(static_cast<int>(net.points.size()), edges, nullptr,
-                            &cycle_edges)) {
+  if (internal::BellmanFord(static_cast<int>(net.points.size()), edges, nullptr, &cycle_edges)) {
     return true;
   }
   if (cycle) {
     cycle->clear();
-    for (int e : cycle_edges)
-      cycle->push_back(edges[static_cast<std::size_t>(e)].link);
+    for (int e : cycle_edges) cycle->push_back(edges[static_cast<std::size_t>(e)].link);
     std::sort(cycle->begin(), cycle->end());
     cycle->erase(std::unique(cycle->begin(), cycle->end()), cycle->end());
   }
   return false;
+}
+
+bool IsDynamicallyControllable(const Network &net, std::vector<int> *conflict) {
+  return internal::MoatDynamicControllability(net, conflict);
 }
 
 CheckResult CheckNetwork(const Network &net) {
@@ -31,8 +34,8 @@ CheckResult CheckNetwork(const Network &net) {
   if (r.consistent) {
     r.strong = IsStronglyControllable(net);
     r.dynamic = IsDynamicallyControllable(net, &r.conflict);
-  } else if (r.conflict.empty()) { // Bellman-Ford stopped at its bound without
-                                   // a cycle
+  } else if (r.conflict.empty()) {  // Bellman-Ford stopped at its bound without
+                                    // a cycle
     IsDynamicallyControllable(net, &r.conflict);
   }
   const auto end = std::chrono::steady_clock::now();
@@ -40,4 +43,4 @@ CheckResult CheckNetwork(const Network &net) {
   return r;
 }
 
-} // namespace ctb::network
+}  // namespace ctb::network

@@ -32,8 +32,8 @@ struct CheckResult {
   bool consistent = false;
   bool strong = false;
   bool dynamic = false;
-  std::vector<int> conflict; // sorted link indices; empty when dynamic
-  double ms = 0;             // wall time of the whole check
+  std::vector<int> conflict;  // sorted link indices; empty when dynamic
+  double ms = 0;              // wall time of the whole check
 };
 
 // Consistency; when inconsistent and `cycle` is given, the links of a negative
@@ -45,10 +45,9 @@ bool IsStronglyControllable(const Network &net);
 
 // Dynamic controllability; when not and `conflict` is given, the conflict's
 // links (sorted).
-bool IsDynamicallyControllable(const Network &net,
-                               std::vector<int> *conflict = nullptr);
+bool IsDynamicallyControllable(const Network &net, std::vector<int> *conflict = nullptr);
 
 // All of the above.
 CheckResult CheckNetwork(const Network &net);
 
-} // namespace ctb::network
+}  // namespace ctb::network

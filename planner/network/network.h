@@ -40,13 +40,11 @@ inline constexpr double kMaxAbsSeconds = 1e9;
 inline constexpr Ticks kInfinity = std::numeric_limits<Ticks>::max() / 4;
 
 enum class PointKind { kOrigin, kControllable, kContingent };
-const char *
-PointKindName(PointKind k); // "origin" | "controllable" | "contingent"
+const char *PointKindName(PointKind k);  // "origin" | "controllable" | "contingent"
 
 struct Point {
-  int id = 0; // the index of the point in Network::points
-  std::string
-      name; // a bare network's name ("a"); derived networks may leave it empty
+  int id = 0;        // the index of the point in Network::points
+  std::string name;  // a bare network's name ("a"); derived networks may leave it empty
   PointKind kind = PointKind::kControllable;
   // Optional descriptive labels printed with the point (automaton, from, to,
   // command, ...).
@@ -54,13 +52,12 @@ struct Point {
 };
 
 struct Link {
-  int from = 0; // indices into Network::points
+  int from = 0;  // indices into Network::points
   int to = 0;
   Ticks lb = 0;
-  std::optional<Ticks> ub; // nullopt: +infinity (requirement links only)
+  std::optional<Ticks> ub;  // nullopt: +infinity (requirement links only)
   bool contingent = false;
-  std::string
-      why; // where the link comes from (a JSON pointer or words); may be empty
+  std::string why;  // where the link comes from (a JSON pointer or words); may be empty
 };
 
 struct Network {
@@ -75,8 +72,7 @@ double SecondsFromTicks(Ticks t);
 
 // The rules on one link's bounds (contingent: 0 <= lb <= ub < inf; requirement:
 // lb <= ub), recorded at pointer + "/lb" or "/ub".
-void CheckLinkBounds(const Link &link, const std::string &pointer,
-                     Diagnostics &diags);
+void CheckLinkBounds(const Link &link, const std::string &pointer, Diagnostics &diags);
 
 // Structural rules of a network: link ends are valid point indices, contingent
 // links have 0 <= lb <= ub < inf, requirement links lb <= ub, no point is the
@@ -87,4 +83,4 @@ void CheckLinkBounds(const Link &link, const std::string &pointer,
 // Returns diags.ok() for this network.
 bool Validate(const Network &net, Diagnostics &diags);
 
-} // namespace ctb::network
+}  // namespace ctb::network

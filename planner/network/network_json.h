@@ -28,4 +28,4 @@ Json CheckResultToJson(const CheckResult &r);
 // why, in seconds.
 Json NetworkToJson(const Network &net);
 
-} // namespace ctb::network
+}  // namespace ctb::network

@@ -29,7 +29,7 @@ std::vector<StnEdge> DistanceEdges(const Network &net);
 // negative cycle. O(n m) in the worst case; the predecessor graph is checked
 // for a cycle after every n relaxations, so a negative cycle is found within
 // O(n m) as well.
-bool BellmanFord(int n, const std::vector<StnEdge> &edges,
-                 std::vector<Ticks> *potential, std::vector<int> *cycle);
+bool BellmanFord(int n, const std::vector<StnEdge> &edges, std::vector<Ticks> *potential,
+                 std::vector<int> *cycle);
 
-} // namespace ctb::network::internal
+}  // namespace ctb::network::internal

@@ -18,12 +18,10 @@ struct L {
 Network Make(int n, const std::vector<L> &links) {
   Network net;
   for (int i = 0; i < n; ++i)
-    net.points.push_back(
-        {i, std::string(1, char('A' + i)), PointKind::kControllable, {}});
+    net.points.push_back({i, std::string(1, char('A' + i)), PointKind::kControllable, {}});
   for (const L &l : links) {
     net.links.push_back({l.from, l.to, l.lb, l.ub, l.contingent, ""});
-    if (l.contingent)
-      net.points[static_cast<std::size_t>(l.to)].kind = PointKind::kContingent;
+    if (l.contingent) net.points[static_cast<std::size_t>(l.to)].kind = PointKind::kContingent;
   }
   Diagnostics d;
   EXPECT_TRUE(Validate(net, d)) << (d.ok() ? "" : d.errors()[0].ToString());
@@ -35,8 +33,7 @@ constexpr int A = 0, B = 1, C = 2;
 // A -[1,5]-> B -[2,4]-> C, A -[0,10]-> C: A=0, B=1, C=3 is a schedule; no
 // contingent link, so strong and dynamic are the consistency.
 TEST(NetworkCheck, ConsistentStnIsControllable) {
-  const CheckResult r =
-      CheckNetwork(Make(3, {{A, B, 1, 5}, {B, C, 2, 4}, {A, C, 0, 10}}));
+  const CheckResult r = CheckNetwork(Make(3, {{A, B, 1, 5}, {B, C, 2, 4}, {A, C, 0, 10}}));
   EXPECT_TRUE(r.consistent);
   EXPECT_TRUE(r.strong);
   EXPECT_TRUE(r.dynamic);
@@ -47,8 +44,8 @@ TEST(NetworkCheck, ConsistentStnIsControllable) {
 // 8: the cycle A->C (8), C->B (-5), B->A (-5) has length -2; the conflict is
 // all three links.
 TEST(NetworkCheck, InconsistentStnNamesItsCycle) {
-  const CheckResult r = CheckNetwork(
-      Make(3, {{A, B, 5, 10}, {B, C, 5, 10}, {A, C, 0, 8}, {A, B, 0, {}}}));
+  const CheckResult r =
+      CheckNetwork(Make(3, {{A, B, 5, 10}, {B, C, 5, 10}, {A, C, 0, 8}, {A, B, 0, {}}}));
   EXPECT_FALSE(r.consistent);
   EXPECT_FALSE(r.strong);
   EXPECT_FALSE(r.dynamic);
@@ -86,8 +83,7 @@ TEST(NetworkCheck, NeitherStrongNorDynamic) {
 // A ==[1,3]==> C, A -[0,10]-> B, C -[0,10]-> B: B = A + 3 is after C for every
 // outcome and B - C <= 2 <= 10. Strong, hence dynamic.
 TEST(NetworkCheck, StrongAndDynamic) {
-  const CheckResult r =
-      CheckNetwork(Make(3, {{A, C, 1, 3, true}, {A, B, 0, 10}, {C, B, 0, 10}}));
+  const CheckResult r = CheckNetwork(Make(3, {{A, C, 1, 3, true}, {A, B, 0, 10}, {C, B, 0, 10}}));
   EXPECT_TRUE(r.consistent);
   EXPECT_TRUE(r.strong);
   EXPECT_TRUE(r.dynamic);
@@ -102,8 +98,7 @@ TEST(NetworkCheck, StrongAndDynamic) {
 // until A + 3 or C, whichever first: C at d <= 3 -> B = d; else B at 3, C - B
 // in (0, 2]. Dynamic.
 TEST(NetworkCheck, WaitMakesItDynamic) {
-  const Network both =
-      Make(3, {{A, C, 2, 5, true}, {A, B, 0, {}}, {B, C, 0, 3}});
+  const Network both = Make(3, {{A, C, 2, 5, true}, {A, B, 0, {}}, {B, C, 0, 3}});
   EXPECT_TRUE(CheckNetwork(both).strong);
   const Network dc = Make(3, {{A, C, 2, 5, true}, {A, B, 0, {}}, {B, C, 0, 2}});
   const CheckResult r = CheckNetwork(dc);
@@ -115,8 +110,7 @@ TEST(NetworkCheck, WaitMakesItDynamic) {
 // A chain of contingent links A ==[1,2]==> C1 ==[1,2]==> C2 with C2 - A <= 3 as
 // a requirement: nature can make it 4. Not dynamic, not strong; consistent.
 TEST(NetworkCheck, ContingentChain) {
-  const Network net =
-      Make(3, {{A, 1, 1, 2, true}, {1, 2, 1, 2, true}, {A, 2, 0, 3}});
+  const Network net = Make(3, {{A, 1, 1, 2, true}, {1, 2, 1, 2, true}, {A, 2, 0, 3}});
   const CheckResult r = CheckNetwork(net);
   EXPECT_TRUE(r.consistent);
   EXPECT_FALSE(r.dynamic);
@@ -133,13 +127,12 @@ TEST(NetworkCheck, EmptyNetwork) {
 TEST(NetworkCheck, LongChainDoesNotOverflowTheStack) {
   std::vector<L> links;
   const int n = 10000;
-  for (int i = 0; i + 1 < n; ++i)
-    links.push_back({i, i + 1, 1, 5, i % 3 == 0});
+  for (int i = 0; i + 1 < n; ++i) links.push_back({i, i + 1, 1, 5, i % 3 == 0});
   const CheckResult r = CheckNetwork(Make(n, links));
   EXPECT_TRUE(r.consistent);
   EXPECT_TRUE(r.dynamic);
   EXPECT_TRUE(r.strong);
 }
 
-} // namespace
-} // namespace ctb::network
+}  // namespace
+}  // namespace ctb::network

@@ -12,75 +12,60 @@ constexpr Ticks kInf = 1LL << 50;
 
 struct Constraint {
   int u, v;
-  Ticks w; // t(v) - t(u) <= w
+  Ticks w;  // t(v) - t(u) <= w
 };
 
 bool FloydConsistent(int n, const std::vector<Constraint> &cs) {
   std::vector<Ticks> d(static_cast<std::size_t>(n * n), kInf);
-  auto at = [&](int i, int j) -> Ticks & {
-    return d[static_cast<std::size_t>(i * n + j)];
-  };
-  for (int i = 0; i < n; ++i)
-    at(i, i) = 0;
-  for (const Constraint &c : cs)
-    at(c.u, c.v) = std::min(at(c.u, c.v), c.w);
+  auto at = [&](int i, int j) -> Ticks & { return d[static_cast<std::size_t>(i * n + j)]; };
+  for (int i = 0; i < n; ++i) at(i, i) = 0;
+  for (const Constraint &c : cs) at(c.u, c.v) = std::min(at(c.u, c.v), c.w);
   for (int k = 0; k < n; ++k) {
     for (int i = 0; i < n; ++i) {
-      if (at(i, k) >= kInf)
-        continue;
+      if (at(i, k) >= kInf) continue;
       for (int j = 0; j < n; ++j) {
-        if (at(k, j) < kInf)
-          at(i, j) = std::min(at(i, j), at(i, k) + at(k, j));
+        if (at(k, j) < kInf) at(i, j) = std::min(at(i, j), at(i, k) + at(k, j));
       }
-      if (at(i, i) < 0)
-        return false;
+      if (at(i, i) < 0) return false;
     }
   }
   return true;
 }
 
-void AddLink(std::vector<Constraint> &cs, int u, int v, Ticks lb,
-             std::optional<Ticks> ub) {
-  if (ub)
-    cs.push_back({u, v, *ub});
+void AddLink(std::vector<Constraint> &cs, int u, int v, Ticks lb, std::optional<Ticks> ub) {
+  if (ub) cs.push_back({u, v, *ub});
   cs.push_back({v, u, -lb});
 }
 
-} // namespace
+}  // namespace
 
 bool OracleConsistent(const Network &net) {
   std::vector<Constraint> cs;
-  for (const Link &l : net.links)
-    AddLink(cs, l.from, l.to, l.lb, l.ub);
+  for (const Link &l : net.links) AddLink(cs, l.from, l.to, l.lb, l.ub);
   return FloydConsistent(static_cast<int>(net.points.size()), cs);
 }
 
 bool OracleStrong(const Network &net) {
   const int n = static_cast<int>(net.points.size());
-  std::vector<int> contingent; // link indices
+  std::vector<int> contingent;  // link indices
   for (std::size_t i = 0; i < net.links.size(); ++i) {
-    if (net.links[i].contingent)
-      contingent.push_back(static_cast<int>(i));
+    if (net.links[i].contingent) contingent.push_back(static_cast<int>(i));
   }
   const int k = static_cast<int>(contingent.size());
   auto var = [&](int scenario, int p) {
-    return net.points[static_cast<std::size_t>(p)].kind ==
-                   PointKind::kContingent
+    return net.points[static_cast<std::size_t>(p)].kind == PointKind::kContingent
                ? n + scenario * n + p
                : p;
   };
   std::vector<Constraint> cs;
   for (int s = 0; s < (1 << k); ++s) {
-    for (int j = 0; j < k;
-         ++j) { // the scenario's duration of each contingent link
-      const Link &l = net.links[static_cast<std::size_t>(
-          contingent[static_cast<std::size_t>(j)])];
+    for (int j = 0; j < k; ++j) {  // the scenario's duration of each contingent link
+      const Link &l = net.links[static_cast<std::size_t>(contingent[static_cast<std::size_t>(j)])];
       const Ticks d = (s >> j) & 1 ? *l.ub : l.lb;
       AddLink(cs, var(s, l.from), var(s, l.to), d, d);
     }
     for (const Link &l : net.links) {
-      if (!l.contingent)
-        AddLink(cs, var(s, l.from), var(s, l.to), l.lb, l.ub);
+      if (!l.contingent) AddLink(cs, var(s, l.from), var(s, l.to), l.lb, l.ub);
     }
   }
   return FloydConsistent(n + (1 << k) * n, cs);
@@ -89,21 +74,18 @@ bool OracleStrong(const Network &net) {
 namespace {
 
 class Game {
-public:
-  explicit Game(const Network &net)
-      : net_(net), n_(static_cast<int>(net.points.size())) {
+ public:
+  explicit Game(const Network &net) : net_(net), n_(static_cast<int>(net.points.size())) {
     Ticks biggest = 0;
     for (const Link &l : net.links) {
       biggest = std::max(biggest, std::llabs(l.lb));
-      if (l.ub)
-        biggest = std::max(biggest, std::llabs(*l.ub));
+      if (l.ub) biggest = std::max(biggest, std::llabs(*l.ub));
     }
     clamp_ = static_cast<int>(biggest) + 1;
     parent_.assign(static_cast<std::size_t>(n_), -1);
     for (std::size_t i = 0; i < net.links.size(); ++i) {
       if (net.links[i].contingent)
-        parent_[static_cast<std::size_t>(net.links[i].to)] =
-            static_cast<int>(i);
+        parent_[static_cast<std::size_t>(net.links[i].to)] = static_cast<int>(i);
     }
   }
 
@@ -113,33 +95,27 @@ public:
     return Agent(s);
   }
 
-private:
-  using State = std::array<int, 8>; // per point: -1 not yet, else now - its
-                                    // time (clamped)
+ private:
+  using State = std::array<int, 8>;  // per point: -1 not yet, else now - its
+                                     // time (clamped)
 
   std::uint64_t Key(const State &s) const {
     std::uint64_t k = 0;
     for (int i = 0; i < n_; ++i)
-      k = k * 64 +
-          static_cast<std::uint64_t>(s[static_cast<std::size_t>(i)] + 1);
+      k = k * 64 + static_cast<std::uint64_t>(s[static_cast<std::size_t>(i)] + 1);
     return k;
   }
 
-  Ticks Rel(const State &s, int p) const {
-    return s[static_cast<std::size_t>(p)];
-  }
+  Ticks Rel(const State &s, int p) const { return s[static_cast<std::size_t>(p)]; }
 
   // Links between p (executed now, relative time 0) and the points executed
   // before.
   bool HoldsAt(const State &s, int p) const {
     for (const Link &l : net_.links) {
       const int other = l.from == p ? l.to : l.to == p ? l.from : -1;
-      if (other < 0 || Rel(s, other) < 0)
-        continue;
-      const Ticks diff =
-          l.from == p ? -Rel(s, other) : Rel(s, other); // t(to) - t(from)
-      if (diff < l.lb || (l.ub && diff > *l.ub))
-        return false;
+      if (other < 0 || Rel(s, other) < 0) continue;
+      const Ticks diff = l.from == p ? -Rel(s, other) : Rel(s, other);  // t(to) - t(from)
+      if (diff < l.lb || (l.ub && diff > *l.ub)) return false;
     }
     return true;
   }
@@ -149,10 +125,8 @@ private:
   bool Viable(const State &s) const {
     for (const Link &l : net_.links) {
       const Ticks rf = Rel(s, l.from), rt = Rel(s, l.to);
-      if (rf >= 0 && rt < 0 && l.ub && rf > *l.ub)
-        return false;
-      if (rt >= 0 && rf < 0 && rt > -l.lb)
-        return false;
+      if (rf >= 0 && rt < 0 && l.ub && rf > *l.ub) return false;
+      if (rt >= 0 && rf < 0 && rt > -l.lb) return false;
     }
     return true;
   }
@@ -162,8 +136,7 @@ private:
   std::vector<int> ZeroChildren(int p) const {
     std::vector<int> out;
     for (const Link &l : net_.links) {
-      if (l.contingent && l.from == p && l.lb == 0)
-        out.push_back(l.to);
+      if (l.contingent && l.from == p && l.lb == 0) out.push_back(l.to);
     }
     return out;
   }
@@ -175,38 +148,29 @@ private:
       bool forced_missing = false;
       for (int j = 0; j < m; ++j) {
         const int c = cands[static_cast<std::size_t>(j)];
-        const Link &l = net_.links[static_cast<std::size_t>(
-            parent_[static_cast<std::size_t>(c)])];
+        const Link &l = net_.links[static_cast<std::size_t>(parent_[static_cast<std::size_t>(c)])];
         const bool now = (mask >> j) & 1;
-        if (!now && l.ub && Rel(s, l.from) >= *l.ub)
-          forced_missing = true;
-        if (now)
-          t[static_cast<std::size_t>(c)] = 0;
+        if (!now && l.ub && Rel(s, l.from) >= *l.ub) forced_missing = true;
+        if (now) t[static_cast<std::size_t>(c)] = 0;
       }
-      if (forced_missing)
-        continue;
+      if (forced_missing) continue;
       std::vector<int> next;
       bool holds = true;
       for (int j = 0; j < m; ++j) {
-        if (!((mask >> j) & 1))
-          continue;
+        if (!((mask >> j) & 1)) continue;
         const int c = cands[static_cast<std::size_t>(j)];
         holds = holds && HoldsAt(t, c);
-        for (int z : ZeroChildren(c))
-          next.push_back(z);
+        for (int z : ZeroChildren(c)) next.push_back(z);
       }
-      if (!holds)
-        return false;
-      if (!(next.empty() ? Agent(t) : Nature(t, next)))
-        return false;
+      if (!holds) return false;
+      if (!(next.empty() ? Agent(t) : Nature(t, next))) return false;
     }
     return true;
   }
 
   bool Agent(const State &s) {
     const std::uint64_t key = Key(s);
-    if (auto it = memo_.find(key); it != memo_.end())
-      return it->second;
+    if (auto it = memo_.find(key); it != memo_.end()) return it->second;
     const bool win = AgentMoves(s);
     memo_[key] = win;
     return win;
@@ -219,19 +183,15 @@ private:
       all = all && done;
       any = any || done;
     }
-    if (all)
-      return true;
+    if (all) return true;
     for (int p = 0; p < n_; ++p) {
-      if (Rel(s, p) >= 0 || net_.points[static_cast<std::size_t>(p)].kind ==
-                                PointKind::kContingent)
+      if (Rel(s, p) >= 0 || net_.points[static_cast<std::size_t>(p)].kind == PointKind::kContingent)
         continue;
       State t = s;
       t[static_cast<std::size_t>(p)] = 0;
-      if (!HoldsAt(t, p))
-        continue;
+      if (!HoldsAt(t, p)) continue;
       const std::vector<int> z = ZeroChildren(p);
-      if (z.empty() ? Agent(t) : Nature(t, z))
-        return true;
+      if (z.empty() ? Agent(t) : Nature(t, z)) return true;
     }
     return any && Wait(s);
   }
@@ -240,22 +200,17 @@ private:
     State t = s;
     for (int p = 0; p < n_; ++p) {
       int &r = t[static_cast<std::size_t>(p)];
-      if (r >= 0)
-        r = std::min(r + 1, clamp_);
+      if (r >= 0) r = std::min(r + 1, clamp_);
     }
-    if (!Viable(t))
-      return false;
+    if (!Viable(t)) return false;
     std::vector<int> cands;
     for (int c = 0; c < n_; ++c) {
       const int pl = parent_[static_cast<std::size_t>(c)];
-      if (pl < 0 || Rel(t, c) >= 0)
-        continue;
+      if (pl < 0 || Rel(t, c) >= 0) continue;
       const Link &l = net_.links[static_cast<std::size_t>(pl)];
-      if (Rel(t, l.from) >= 0 && Rel(t, l.from) >= l.lb)
-        cands.push_back(c);
+      if (Rel(t, l.from) >= 0 && Rel(t, l.from) >= l.lb) cands.push_back(c);
     }
-    if (t == s && cands.empty())
-      return false; // waiting changes nothing
+    if (t == s && cands.empty()) return false;  // waiting changes nothing
     return cands.empty() ? Agent(t) : Nature(t, cands);
   }
 
@@ -266,18 +221,15 @@ private:
   std::unordered_map<std::uint64_t, bool> memo_;
 };
 
-} // namespace
+}  // namespace
 
 bool OracleDynamic(const Network &net) {
-  if (net.points.size() > 8)
-    std::abort();
+  if (net.points.size() > 8) std::abort();
   return Game(net).Solve();
 }
 
 Network RandomNetwork(std::mt19937 &rng, int n, int k, int m, int max_bound) {
-  auto uni = [&](int lo, int hi) {
-    return std::uniform_int_distribution<int>(lo, hi)(rng);
-  };
+  auto uni = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
   // Half the networks are planted: bounds around a hidden schedule (times
   // increasing with the index), so that most are consistent and the interesting
   // answers (dynamic but not strong, consistent but not dynamic) are frequent;
@@ -290,21 +242,15 @@ Network RandomNetwork(std::mt19937 &rng, int n, int k, int m, int max_bound) {
   auto hidden = [&](int u, int v) {
     return t[static_cast<std::size_t>(v)] - t[static_cast<std::size_t>(u)];
   };
-  auto clampb = [&](Ticks x) {
-    return std::clamp<Ticks>(x, -max_bound, max_bound);
-  };
+  auto clampb = [&](Ticks x) { return std::clamp<Ticks>(x, -max_bound, max_bound); };
   Network net;
   for (int i = 0; i < n; ++i)
-    net.points.push_back(
-        {i, "p" + std::to_string(i), PointKind::kControllable, {}});
+    net.points.push_back({i, "p" + std::to_string(i), PointKind::kControllable, {}});
   for (int j = 0; j < k && n >= 2; ++j) {
     const int c = uni(1, n - 1);
-    if (net.points[static_cast<std::size_t>(c)].kind == PointKind::kContingent)
-      continue;
-    const int a =
-        uni(0, c - 1); // activations come earlier in index order: a forest
-    Ticks lb = uni(0, max_bound),
-          ub = lb + uni(0, max_bound - static_cast<int>(lb));
+    if (net.points[static_cast<std::size_t>(c)].kind == PointKind::kContingent) continue;
+    const int a = uni(0, c - 1);  // activations come earlier in index order: a forest
+    Ticks lb = uni(0, max_bound), ub = lb + uni(0, max_bound - static_cast<int>(lb));
     if (planted) {
       const Ticks d = std::min<Ticks>(hidden(a, c), max_bound);
       lb = std::max<Ticks>(0, d - uni(0, 2));
@@ -316,20 +262,17 @@ Network RandomNetwork(std::mt19937 &rng, int n, int k, int m, int max_bound) {
   for (int j = 0; j < m; ++j) {
     const int u = uni(0, n - 1);
     int v = uni(0, n - 2);
-    if (v >= u)
-      ++v;
+    if (v >= u) ++v;
     Ticks lb = uni(-max_bound, max_bound);
     std::optional<Ticks> ub;
     if (planted) {
       const Ticks d = hidden(u, v);
       lb = clampb(d - uni(0, 2));
-      if (uni(0, 3) > 0)
-        ub = clampb(d + uni(0, 2));
+      if (uni(0, 3) > 0) ub = clampb(d + uni(0, 2));
     } else if (uni(0, 3) > 0) {
       ub = std::min<Ticks>(lb + uni(0, max_bound), max_bound);
     }
-    if (ub && *ub < lb)
-      ub = lb;
+    if (ub && *ub < lb) ub = lb;
     net.links.push_back({u, v, lb, ub, false, ""});
   }
   std::shuffle(net.links.begin(), net.links.end(), rng);
@@ -339,15 +282,13 @@ Network RandomNetwork(std::mt19937 &rng, int n, int k, int m, int max_bound) {
 Network Restrict(const Network &net, const std::vector<int> &links) {
   Network out;
   out.points = net.points;
-  for (Point &p : out.points)
-    p.kind = PointKind::kControllable;
+  for (Point &p : out.points) p.kind = PointKind::kControllable;
   for (int i : links) {
     const Link &l = net.links[static_cast<std::size_t>(i)];
     out.links.push_back(l);
-    if (l.contingent)
-      out.points[static_cast<std::size_t>(l.to)].kind = PointKind::kContingent;
+    if (l.contingent) out.points[static_cast<std::size_t>(l.to)].kind = PointKind::kContingent;
   }
   return out;
 }
 
-} // namespace ctb::network::testing
+}  // namespace ctb::network::testing

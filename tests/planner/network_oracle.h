@@ -40,4 +40,4 @@ Network RandomNetwork(std::mt19937 &rng, int n, int k, int m, int max_bound);
 // contingent only if its contingent link is kept).
 Network Restrict(const Network &net, const std::vector<int> &links);
 
-} // namespace ctb::network::testing
+}  // namespace ctb::network::testing

@@ -14,16 +14,13 @@ std::vector<std::string> Errors(const std::string &text) {
     EXPECT_FALSE(ParseCheckBody(*j, d).has_value());
   }
   std::vector<std::string> out;
-  for (const Diagnostic &e : d.errors())
-    out.push_back(e.ToString());
+  for (const Diagnostic &e : d.errors()) out.push_back(e.ToString());
   return out;
 }
 
-bool Contains(const std::vector<std::string> &errors,
-              const std::string &needle) {
+bool Contains(const std::vector<std::string> &errors, const std::string &needle) {
   for (const std::string &e : errors) {
-    if (e.find(needle) != std::string::npos)
-      return true;
+    if (e.find(needle) != std::string::npos) return true;
   }
   return false;
 }
@@ -47,14 +44,12 @@ TEST(NetworkParse, ReadsTheContractExample) {
 TEST(NetworkParse, UnknownPointSuggestsTheNearest) {
   const auto e = Errors(R"({"points": ["start", "end"], "links": [
       {"from": "start", "to": "edn", "lb": 0, "ub": 1}]})");
-  EXPECT_TRUE(
-      Contains(e, "/links/0/to: unknown point 'edn' (did you mean 'end'?)"));
+  EXPECT_TRUE(Contains(e, "/links/0/to: unknown point 'edn' (did you mean 'end'?)"));
 }
 
 TEST(NetworkParse, DuplicateNamesAndBadNames) {
   const auto e = Errors(R"({"points": ["a", "b", "a", 3, ""], "links": []})");
-  EXPECT_TRUE(
-      Contains(e, "/points/2: duplicate point name 'a' (first at /points/0)"));
+  EXPECT_TRUE(Contains(e, "/points/2: duplicate point name 'a' (first at /points/0)"));
   EXPECT_TRUE(Contains(e, "/points/3: expected a non-empty point name"));
   EXPECT_TRUE(Contains(e, "/points/4: expected a non-empty point name"));
 }
@@ -68,8 +63,7 @@ TEST(NetworkParse, BoundsAreLocated) {
       {"from": "a", "to": "b", "lb": 1e300},
       {"from": "a", "to": "b", "lb": 0.0001},
       {"from": "a", "to": "b", "lb": 3, "ub": 2}]})");
-  EXPECT_TRUE(
-      Contains(e, "/links/3/ub: expected a number of seconds, got string"));
+  EXPECT_TRUE(Contains(e, "/links/3/ub: expected a number of seconds, got string"));
   EXPECT_TRUE(Contains(e, "/links/4/lb: expected a finite number"));
   EXPECT_TRUE(Contains(e, "/links/5/lb: expected a finite number"));
   EXPECT_TRUE(Contains(e, "/links/6/ub: ub is below lb"));
@@ -79,9 +73,8 @@ TEST(NetworkParse, ContingentRules) {
   const auto twice = Errors(R"({"points": ["a", "b", "c"], "links": [
       {"from": "a", "to": "b", "lb": 1, "ub": 2, "contingent": true},
       {"from": "c", "to": "b", "lb": 1, "ub": 2, "contingent": true}]})");
-  EXPECT_TRUE(Contains(
-      twice,
-      "/links/1/to: the point is already the end of contingent link /links/0"));
+  EXPECT_TRUE(
+      Contains(twice, "/links/1/to: the point is already the end of contingent link /links/0"));
   const auto e = Errors(R"({"points": ["a", "b", "c"], "links": [
       {"from": "a", "to": "b", "lb": 1, "ub": 2, "contingent": true},
       {"from": "a", "to": "c", "lb": -1, "ub": 2, "contingent": true},
@@ -98,23 +91,17 @@ TEST(NetworkParse, ContingentCycle) {
 }
 
 TEST(NetworkParse, StrictKeysAndShape) {
-  EXPECT_TRUE(
-      Contains(Errors(R"({"points": [], "links": [], "extra": 1})"), "/extra"));
+  EXPECT_TRUE(Contains(Errors(R"({"points": [], "links": [], "extra": 1})"), "/extra"));
   EXPECT_TRUE(Contains(
-      Errors(
-          R"({"points": ["a","b"], "links": [{"from": "a", "to": "b", "lb": 0, "weight": 1}]})"),
+      Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b", "lb": 0, "weight": 1}]})"),
       "/links/0/weight"));
-  EXPECT_TRUE(Contains(
-      Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b"}]})"),
-      "/links/0/lb: missing required field"));
+  EXPECT_TRUE(Contains(Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b"}]})"),
+                       "/links/0/lb: missing required field"));
+  EXPECT_TRUE(Contains(Errors(R"({"links": []})"), "/points: missing required field"));
+  EXPECT_TRUE(Contains(Errors(R"({"points": ["a"], "links": {}})"), "/links: expected an array"));
   EXPECT_TRUE(
-      Contains(Errors(R"({"links": []})"), "/points: missing required field"));
-  EXPECT_TRUE(Contains(Errors(R"({"points": ["a"], "links": {}})"),
-                       "/links: expected an array"));
-  EXPECT_TRUE(Contains(
-      Errors(
-          R"({"points": ["a", "b"], "links": [{"from": "a", "to": "a", "lb": 0}]})"),
-      "/links/0: a link from a point to itself"));
+      Contains(Errors(R"({"points": ["a", "b"], "links": [{"from": "a", "to": "a", "lb": 0}]})"),
+               "/links/0: a link from a point to itself"));
   EXPECT_TRUE(Contains(Errors(R"([1])"), "expected"));
 }
 
@@ -130,5 +117,5 @@ TEST(NetworkParse, AnswerJson) {
   EXPECT_FALSE(CheckResultToJson(r).contains("conflict"));
 }
 
-} // namespace
-} // namespace ctb::network
+}  // namespace
+}  // namespace ctb::network

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "planner/network/check.h"
+#include "planner/network/dynamic_internal.h"
 #include "tests/planner/network_oracle.h"
 
 namespace ctb::network {
@@ -16,9 +17,9 @@ namespace {
 std::string Describe(const Network &net) {
   std::string s;
   for (const Link &l : net.links) {
-    s += "  " + std::to_string(l.from) + (l.contingent ? " ==[" : " -[") +
-         std::to_string(l.lb) + "," + (l.ub ? std::to_string(*l.ub) : "inf") +
-         (l.contingent ? "]==> " : "]-> ") + std::to_string(l.to) + "\n";
+    s += "  " + std::to_string(l.from) + (l.contingent ? " ==[" : " -[") + std::to_string(l.lb) +
+         "," + (l.ub ? std::to_string(*l.ub) : "inf") + (l.contingent ? "]==> " : "]-> ") +
+         std::to_string(l.to) + "\n";
   }
   return s;
 }
@@ -26,11 +27,11 @@ std::string Describe(const Network &net) {
 struct Counts {
   int consistent = 0, strong = 0, dynamic = 0, total = 0;
   ~Counts() {
-    std::printf("%d networks: %d inconsistent, %d consistent not dynamic, %d "
-                "dynamic not strong, "
-                "%d strong\n",
-                total, total - consistent, consistent - dynamic,
-                dynamic - strong, strong);
+    std::printf(
+        "%d networks: %d inconsistent, %d consistent not dynamic, %d "
+        "dynamic not strong, "
+        "%d strong\n",
+        total, total - consistent, consistent - dynamic, dynamic - strong, strong);
   }
 };
 
@@ -44,6 +45,7 @@ void CheckOne(const Network &net, bool with_game, Counts &counts) {
   ASSERT_EQ(r.strong, testing::OracleStrong(net)) << Describe(net);
   ASSERT_TRUE(!r.strong || r.dynamic) << Describe(net);
   ASSERT_TRUE(!r.dynamic || r.consistent) << Describe(net);
+  ASSERT_EQ(r.dynamic, internal::MorrisDynamicControllability(net, nullptr)) << Describe(net);
   if (with_game) {
     ASSERT_EQ(r.dynamic, testing::OracleDynamic(net)) << Describe(net);
   }
@@ -55,8 +57,8 @@ void CheckOne(const Network &net, bool with_game, Counts &counts) {
   const Network sub = testing::Restrict(net, r.conflict);
   Diagnostics d;
   ASSERT_TRUE(Validate(sub, d));
-  ASSERT_FALSE(IsDynamicallyControllable(sub)) << "conflict is controllable:\n"
-                                               << Describe(sub);
+  ASSERT_FALSE(IsDynamicallyControllable(sub)) << "conflict is controllable:\n" << Describe(sub);
+  ASSERT_FALSE(internal::MorrisDynamicControllability(sub, nullptr)) << Describe(sub);
   if (with_game) {
     ASSERT_FALSE(testing::OracleDynamic(sub)) << Describe(sub);
   }
@@ -67,12 +69,11 @@ TEST(NetworkRandom, TinyNetworksAgreeWithTheGame) {
   std::mt19937 rng(20261127);
   Counts c;
   for (int i = 0; i < 4000; ++i) {
-    const int n = 2 + static_cast<int>(rng() % 3); // 2..4 points
-    const int k = 1 + static_cast<int>(rng() % 2); // 1 or 2 contingent links
-    const int m = 1 + static_cast<int>(rng() % 4); // 1..4 requirement links
+    const int n = 2 + static_cast<int>(rng() % 3);  // 2..4 points
+    const int k = 1 + static_cast<int>(rng() % 2);  // 1 or 2 contingent links
+    const int m = 1 + static_cast<int>(rng() % 4);  // 1..4 requirement links
     CheckOne(testing::RandomNetwork(rng, n, k, m, 4), true, c);
-    if (HasFatalFailure())
-      return;
+    if (HasFatalFailure()) return;
   }
   // The sample covers every answer.
   EXPECT_GT(c.dynamic - c.strong, 50);
@@ -90,8 +91,7 @@ TEST(NetworkRandom, SmallNetworksAgreeWithTheGame) {
     const int k = 1 + static_cast<int>(rng() % 3);
     const int m = 2 + static_cast<int>(rng() % 4);
     CheckOne(testing::RandomNetwork(rng, 5, k, m, 3), true, c);
-    if (HasFatalFailure())
-      return;
+    if (HasFatalFailure()) return;
   }
   EXPECT_GT(c.dynamic - c.strong, 20);
 }
@@ -106,12 +106,11 @@ TEST(NetworkRandom, LargerNetworksAgreeWithEnumeration) {
     const int k = static_cast<int>(rng() % 5);
     const int m = n + static_cast<int>(rng() % n);
     CheckOne(testing::RandomNetwork(rng, n, k, m, 20), false, c);
-    if (HasFatalFailure())
-      return;
+    if (HasFatalFailure()) return;
   }
   EXPECT_GT(c.strong, 20);
   EXPECT_GT(c.consistent - c.dynamic, 20);
 }
 
-} // namespace
-} // namespace ctb::network
+}  // namespace
+}  // namespace ctb::network

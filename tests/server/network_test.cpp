@@ -2,9 +2,9 @@
 // answers, located errors, and the 4 MiB body limit of this route (other routes
 // keep max_body_bytes). Answers are recorded for the OpenAPI check of
 // server_test.cpp.
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "harness.h"
 
@@ -12,9 +12,8 @@ namespace ctb {
 namespace {
 
 class NetServer : public ctb::testing::ServerProcess {
-public:
-  explicit NetServer(Json config = Json::object())
-      : ServerProcess(std::move(config), {}, {}, "") {}
+ public:
+  explicit NetServer(Json config = Json::object()) : ServerProcess(std::move(config), {}, {}, "") {}
   ctb::testing::RecordingClient Client() const {
     ctb::testing::RecordingClient c("127.0.0.1", port());
     c.set_read_timeout(60, 0);
@@ -30,11 +29,7 @@ TEST(NetworkService, AnswersTheCheck) {
   auto c = s.Client();
   Json body = {{"points", {"A", "B", "C"}},
                {"links",
-                {{{"from", "A"},
-                  {"to", "C"},
-                  {"lb", 1},
-                  {"ub", 3},
-                  {"contingent", true}},
+                {{{"from", "A"}, {"to", "C"}, {"lb", 1}, {"ub", 3}, {"contingent", true}},
                  {{"from", "C"}, {"to", "B"}, {"lb", 0}, {"ub", 1}},
                  {{"from", "A"}, {"to", "B"}, {"lb", 0}, {"ub", nullptr}}}}};
   auto r = c.Post("/networks/check", body.dump(), "application/json");
@@ -82,8 +77,7 @@ TEST(NetworkService, BodiesUpToFourMiB) {
   auto c = s.Client();
   Json points = Json::array(), links = Json::array();
   const int n = 10000;
-  for (int i = 0; i < n; ++i)
-    points.push_back("point-" + std::to_string(i) + std::string(40, 'x'));
+  for (int i = 0; i < n; ++i) points.push_back("point-" + std::to_string(i) + std::string(40, 'x'));
   for (int i = 0; i + 1 < n; ++i) {
     links.push_back({{"from", points[i]},
                      {"to", points[i + 1]},
@@ -109,14 +103,9 @@ TEST(NetworkService, BodiesUpToFourMiB) {
            "Content-Length: " +
            std::to_string(length) + "\r\nConnection: close\r\n\r\n";
   };
-  EXPECT_EQ(
-      ctb::testing::RawRequest(s.port(), head("/validate", text.size())).status,
-      413);
-  EXPECT_EQ(
-      ctb::testing::RawRequest(s.port(), head("/networks/check", (4 << 20) + 1))
-          .status,
-      413);
+  EXPECT_EQ(ctb::testing::RawRequest(s.port(), head("/validate", text.size())).status, 413);
+  EXPECT_EQ(ctb::testing::RawRequest(s.port(), head("/networks/check", (4 << 20) + 1)).status, 413);
 }
 
-} // namespace
-} // namespace ctb
+}  // namespace
+}  // namespace ctb
