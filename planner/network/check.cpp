@@ -24,7 +24,7 @@ bool IsConsistent(const Network &net, std::vector<int> *cycle) {
 }
 
 bool IsDynamicallyControllable(const Network &net, std::vector<int> *conflict) {
-  return internal::MoatDynamicControllability(net, conflict);
+  return internal::MorrisDynamicControllability(net, conflict);
 }
 
 CheckResult CheckNetwork(const Network &net) {

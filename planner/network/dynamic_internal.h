@@ -1,5 +1,6 @@
-// Internal to planner/network: the two dynamic-controllability checkers. Both answer the same
-// question (instantaneous reaction); check.cpp uses the moat reductions, the tests compare them.
+// Internal to planner/network: two dynamic-controllability checkers. Both answer the same
+// question (instantaneous reaction); check.cpp uses Morris 2014 (faster on the benchmark's
+// networks), the tests compare them with each other and with the slow oracles.
 #pragma once
 
 #include <vector>
@@ -8,8 +9,9 @@
 
 namespace ctb::network::internal {
 
-// Morris 2014's DCbackprop (dynamic.cpp): O(n^3); on plan-like networks, whose points are mostly
-// ordered, each search covers every later point, so it grows as n^2.
+// Morris 2014's DCbackprop (dynamic.cpp): O(n^3). Each search covers the points whose distance
+// to its source is negative (on plan-like networks, the later points within reach of the
+// source's largest lower bound), so the time grows faster than linearly with the network.
 bool MorrisDynamicControllability(const Network& net, std::vector<int>* conflict);
 
 // Iterated moat reductions (Morris 2006) with potentials (moats.cpp): a Dijkstra per contingent

@@ -45,7 +45,7 @@ void CheckOne(const Network &net, bool with_game, Counts &counts) {
   ASSERT_EQ(r.strong, testing::OracleStrong(net)) << Describe(net);
   ASSERT_TRUE(!r.strong || r.dynamic) << Describe(net);
   ASSERT_TRUE(!r.dynamic || r.consistent) << Describe(net);
-  ASSERT_EQ(r.dynamic, internal::MorrisDynamicControllability(net, nullptr)) << Describe(net);
+  ASSERT_EQ(r.dynamic, internal::MoatDynamicControllability(net, nullptr)) << Describe(net);
   if (with_game) {
     ASSERT_EQ(r.dynamic, testing::OracleDynamic(net)) << Describe(net);
   }
@@ -58,7 +58,7 @@ void CheckOne(const Network &net, bool with_game, Counts &counts) {
   Diagnostics d;
   ASSERT_TRUE(Validate(sub, d));
   ASSERT_FALSE(IsDynamicallyControllable(sub)) << "conflict is controllable:\n" << Describe(sub);
-  ASSERT_FALSE(internal::MorrisDynamicControllability(sub, nullptr)) << Describe(sub);
+  ASSERT_FALSE(internal::MoatDynamicControllability(sub, nullptr)) << Describe(sub);
   if (with_game) {
     ASSERT_FALSE(testing::OracleDynamic(sub)) << Describe(sub);
   }
