@@ -1,15 +1,13 @@
-// Core::CheckNetwork (contract section 13): a bare temporal network checked by
-// planner/network.
+// Core::CheckNetwork (contract section 13): a bare temporal network checked by planner/network.
 #include "app/core.h"
 #include "planner/network/network_json.h"
 
 namespace ctb::app {
 namespace {
 
-// Counts before parsing, so that an oversized body costs no more than reading
-// its arrays' sizes.
-std::optional<Error> TooLarge(const Json &body) {
-  auto over = [](const char *name, const char *field, std::size_t limit,
+// Counts before parsing, so that an oversized body costs no more than reading its arrays' sizes.
+std::optional<Error> TooLarge(const Json& body) {
+  auto over = [](const char* name, const char* field, std::size_t limit,
                  std::size_t actual) -> Error {
     Error e{ErrorCode::kTooLarge,
             std::string("the network has more ") + field + " than " + std::to_string(limit),
@@ -31,7 +29,7 @@ std::optional<Error> TooLarge(const Json &body) {
 
 }  // namespace
 
-std::variant<Json, Error> CheckNetworkBody(const Json &body) {
+std::variant<Json, Error> CheckNetworkBody(const Json& body) {
   if (std::optional<Error> e = TooLarge(body)) return *e;
   Diagnostics d;
   std::optional<network::Network> net = network::ParseCheckBody(body, d);
@@ -39,6 +37,6 @@ std::variant<Json, Error> CheckNetworkBody(const Json &body) {
   return network::CheckResultToJson(network::CheckNetwork(*net));
 }
 
-std::variant<Json, Error> Core::CheckNetwork(const Json &body) { return CheckNetworkBody(body); }
+std::variant<Json, Error> Core::CheckNetwork(const Json& body) { return CheckNetworkBody(body); }
 
 }  // namespace ctb::app

@@ -1,5 +1,5 @@
-// `ctburton network check FILE`: a bare temporal network (contract section 13)
-// checked locally, with the answer of POST /networks/check.
+// `ctburton network check FILE`: a bare temporal network (contract section 13) checked locally,
+// with the answer of POST /networks/check.
 #include <iostream>
 #include <memory>
 #include <string>
@@ -15,7 +15,7 @@ struct NetworkOptions {
   std::string file;
 };
 
-int RunCheck(const NetworkOptions &o) {
+int RunCheck(const NetworkOptions& o) {
   Diagnostics d;
   ParseLimits limits;
   limits.max_bytes = std::size_t{64} << 20;  // a local file: larger than the server's 4 MiB
@@ -25,7 +25,7 @@ int RunCheck(const NetworkOptions &o) {
     return 1;
   }
   auto r = app::CheckNetworkBody(*body);
-  if (auto *e = std::get_if<Error>(&r)) {
+  if (auto* e = std::get_if<Error>(&r)) {
     PrintError(*e);
     return ExitCodeFor(e->code);
   }
@@ -35,11 +35,11 @@ int RunCheck(const NetworkOptions &o) {
 
 }  // namespace
 
-Runner AddNetwork(CLI::App &app) {
+Runner AddNetwork(CLI::App& app) {
   auto o = std::make_shared<NetworkOptions>();
-  CLI::App *sub = app.add_subcommand("network", "Temporal networks with uncertainty");
+  CLI::App* sub = app.add_subcommand("network", "Temporal networks with uncertainty");
   sub->require_subcommand(1);
-  CLI::App *check = sub->add_subcommand(
+  CLI::App* check = sub->add_subcommand(
       "check", "Check a network's consistency and strong/dynamic controllability");
   check->add_option("FILE", o->file, "{\"points\": [...], \"links\": [...]} as JSON")->required();
   return [o, check]() { return check->parsed() ? RunCheck(*o) : -1; };

@@ -8,7 +8,7 @@
 
 namespace ctb::network {
 
-bool IsConsistent(const Network &net, std::vector<int> *cycle) {
+bool IsConsistent(const Network& net, std::vector<int>* cycle) {
   const std::vector<internal::StnEdge> edges = internal::DistanceEdges(net);
   std::vector<int> cycle_edges;
   if (internal::BellmanFord(static_cast<int>(net.points.size()), edges, nullptr, &cycle_edges)) {
@@ -23,17 +23,19 @@ bool IsConsistent(const Network &net, std::vector<int> *cycle) {
   return false;
 }
 
-bool IsDynamicallyControllable(const Network &net, std::vector<int> *conflict) {
+bool IsDynamicallyControllable(const Network& net, std::vector<int>* conflict) {
   return internal::MorrisDynamicControllability(net, conflict);
 }
 
-CheckResult CheckNetwork(const Network &net) {
+CheckResult CheckNetwork(const Network& net) {
   const auto start = std::chrono::steady_clock::now();
   CheckResult r;
   r.consistent = IsConsistent(net, &r.conflict);
   if (r.consistent) {
     r.strong = IsStronglyControllable(net);
-    r.dynamic = IsDynamicallyControllable(net, &r.conflict);
+    // One schedule for every outcome is also a dispatch strategy: strong implies dynamic, and
+    // Morris's searches (the costly part) are only needed when the network is not strong.
+    r.dynamic = r.strong || IsDynamicallyControllable(net, &r.conflict);
   } else if (r.conflict.empty()) {  // Bellman-Ford stopped at its bound without
                                     // a cycle
     IsDynamicallyControllable(net, &r.conflict);

@@ -1,16 +1,15 @@
-// Dynamic controllability: Morris 2014, "Dynamic controllability and dispatchability
-// relationships" (CPAIOR 2014), with instantaneous reaction. The network is dynamically
-// controllable iff its labelled distance graph has no semi-reducible negative cycle. DCbackprop
-// runs from every negative node (a node with a negative incoming edge): a Dijkstra search
-// backwards from the node that starts with its negative in-edges and continues over non-negative
-// edges only; where the distance becomes non-negative, a non-negative ordinary edge to the source
-// is added and the search stops there. A negative node met on the way must have been processed
-// first (its negative in-edges are then bypassed by such edges): Morris recurses; here the search
-// stops, that node is processed, and the search starts again, so searches never nest and use
-// flat arrays. The paths that begin with an upper-case edge are searched apart from the others
-// (one search per upper-case in-edge): the lower-case edge of the same contingent link may not
-// precede them. A node met again while it waits, or a path back to the source of negative
-// length, is a semi-reducible negative cycle.
+// Dynamic controllability: Morris 2014, "Dynamic controllability and dispatchability relationships"
+// (CPAIOR 2014), with instantaneous reaction. The network is dynamically controllable iff its
+// labelled distance graph has no semi-reducible negative cycle. DCbackprop runs from every negative
+// node (a node with a negative incoming edge): a Dijkstra search backwards from the node that
+// starts with its negative in-edges and continues over non-negative edges only; where the distance
+// becomes non-negative, a non-negative ordinary edge to the source is added and the search stops
+// there. A negative node met on the way must have been processed first (its negative in-edges are
+// then bypassed by such edges): Morris recurses; here the search stops, that node is processed, and
+// the search starts again, so searches never nest and use flat arrays. The paths that begin with an
+// upper-case edge are searched apart from the others (one search per upper-case in-edge): the
+// lower-case edge of the same contingent link may not precede them. A node met again while it
+// waits, or a path back to the source of negative length, is a semi-reducible negative cycle.
 //
 // Conflicts (Bhargava, Vaquero & Williams 2018): every derived edge remembers the path it
 // summarises, so the cycle's edges expand to the input links they came from.
@@ -64,8 +63,8 @@ class Morris {
     settled_.assign(n_, 0);
   }
 
-  // Every negative node, the latest first (by a consistent schedule): a search from a point
-  // needs the searches from the points after it, which are then done.
+  // Every negative node, the latest first (by a consistent schedule): a search from a point needs
+  // the searches from the points after it, which are then done.
   bool Run() {
     std::vector<int> order;
     for (std::size_t v = 0; v < n_; ++v) {
@@ -116,8 +115,8 @@ class Morris {
     edges_.push_back(e);
   }
 
-  // A link's distance graph; a contingent link (A, C, x, y) also gets the lower-case edge
-  // A -> C (c: x) and the upper-case edge C -> A (C: -y).
+  // A link's distance graph; a contingent link (A, C, x, y) also gets the lower-case edge A -> C
+  // (c: x) and the upper-case edge C -> A (C: -y).
   void AddLink(const Link& l, int li) {
     if (l.ub) AddEdge({l.from, l.to, *l.ub, EdgeKind::kOrdinary, li});
     AddEdge({l.to, l.from, -l.lb, EdgeKind::kOrdinary, li});
@@ -196,10 +195,10 @@ class Morris {
   std::vector<int> cycle_paths_;
 };
 
-// DCbackprop without recursion: a search that meets a negative node not yet processed stops;
-// that node is processed first, then the search starts again (on a graph with more edges). A
-// node met again while it waits is Morris's "ancestor call with the same source": the paths
-// along the chain form a semi-reducible negative cycle.
+// DCbackprop without recursion: a search that meets a negative node not yet processed stops; that
+// node is processed first, then the search starts again (on a graph with more edges). A node met
+// again while it waits is Morris's "ancestor call with the same source": the paths along the chain
+// form a semi-reducible negative cycle.
 bool Morris::Process(int source) {
   chain_.assign(1, {source, -1});
   status_[U(source)] = 1;
@@ -225,8 +224,8 @@ bool Morris::Process(int source) {
   return true;
 }
 
-// One search per class of the source's negative in-edges: the ordinary ones together, then
-// each upper-case edge alone (the lower-case edge of the same link may not precede its paths).
+// One search per class of the source's negative in-edges: the ordinary ones together, then each
+// upper-case edge alone (the lower-case edge of the same link may not precede its paths).
 Morris::Outcome Morris::SearchAll(int source) {
   bool ordinary = false;
   for (int ei : in_[U(source)]) {
@@ -246,8 +245,8 @@ Morris::Outcome Morris::SearchAll(int source) {
   return Outcome::kDone;
 }
 
-// The Dijkstra search backwards from `source`, starting with its negative ordinary in-edges
-// (upper < 0) or with the upper-case edge `upper`.
+// The Dijkstra search backwards from `source`, starting with its negative ordinary in-edges (upper
+// < 0) or with the upper-case edge `upper`.
 Morris::Outcome Morris::Search(int source, int upper) {
   ++search_;
   queue_ = {};

@@ -1,21 +1,21 @@
 // Dynamic controllability by iterated moat reductions (Morris 2006, "A structural characterization
-// of temporal dynamic controllability", CP 2006), with instantaneous reaction. A lower-case edge
-// A --c:x--> C is usable in a path only when a *moat* follows it: a path Q from C of negative
-// length whose proper prefixes are non-negative, made of ordinary edges and at most one
-// upper-case edge (the last, with a label other than C). The pair reduces to A --x+|Q|--> W
-// (ordinary; upper-case labelled B when Q ends with B's edge, unless x+|Q| >= -lb(B): label
-// removal). The network is dynamically controllable iff, once no reduction adds or tightens an
-// edge, the AllMax graph (ordinary and upper-case edges, labels ignored) has no negative cycle.
+// of temporal dynamic controllability", CP 2006), with instantaneous reaction. A lower-case edge A
+// --c:x--> C is usable in a path only when a *moat* follows it: a path Q from C of negative length
+// whose proper prefixes are non-negative, made of ordinary edges and at most one upper-case edge
+// (the last, with a label other than C). The pair reduces to A --x+|Q|--> W (ordinary; upper-case
+// labelled B when Q ends with B's edge, unless x+|Q| >= -lb(B): label removal). The network is
+// dynamically controllable iff, once no reduction adds or tightens an edge, the AllMax graph
+// (ordinary and upper-case edges, labels ignored) has no negative cycle.
 //
-// Each round: Bellman-Ford (Goldberg-Radzik) on the AllMax graph gives a potential, or a
-// negative cycle (not controllable); then one Dijkstra per contingent link, forward from C over
-// reduced costs, settles every node whose prefix is non-negative and stops at the first negative
-// one (the moat's end). Derived edges join the graph after the round. Morris shows K + 1 rounds
-// suffice (K contingent links); in practice two or three. O(rounds * (BF + K (m + n log n))).
+// Each round: Bellman-Ford (Goldberg-Radzik) on the AllMax graph gives a potential, or a negative
+// cycle (not controllable); then one Dijkstra per contingent link, forward from C over reduced
+// costs, settles every node whose prefix is non-negative and stops at the first negative one (the
+// moat's end). Derived edges join the graph after the round. Morris shows K + 1 rounds suffice (K
+// contingent links); in practice two or three. O(rounds * (BF + K (m + n log n))).
 //
 // Conflicts: every derived edge keeps its lower-case edge and moat (path nodes shared within a
-// search), so a negative cycle expands to the input links it came from (as Bhargava et al. do
-// for Morris 2014's edges).
+// search), so a negative cycle expands to the input links it came from (as Bhargava et al. do for
+// Morris 2014's edges).
 #include <algorithm>
 #include <map>
 #include <queue>
@@ -47,8 +47,8 @@ struct PathNode {
   int next = -1;  // towards the moat's end
 };
 
-// Per node of a moat search: the shortest path from C that ends there with an ordinary edge
-// (paths that end with a wait are moat ends, derived at once).
+// Per node of a moat search: the shortest path from C that ends there with an ordinary edge (paths
+// that end with a wait are moat ends, derived at once).
 struct Slot {
   Ticks dist = 0;
   int edge = -1;  // the last edge of the path
@@ -157,8 +157,8 @@ class Moats {
   std::map<std::tuple<int, int, int>, int> derived_;
 };
 
-// Materialises a moat as path nodes from C's first edge: the slot chain of `node`, then
-// `last` (an upper-case edge) when given; returns the first node's id.
+// Materialises a moat as path nodes from C's first edge: the slot chain of `node`, then `last` (an
+// upper-case edge) when given; returns the first node's id.
 int Moats::Materialise(int node, int last) {
   int next = -1;
   if (last >= 0) {
@@ -193,9 +193,9 @@ bool Moats::Search(int lower, std::vector<int>* conflict) {
   return true;
 }
 
-// Relaxes the out-edges of a node with a non-negative prefix. An upper-case edge after an
-// ordinary path is a wait on its label (upper-case rule), which ends the moat when negative;
-// it is ordinary again when the sum is at least -lb of that label (label removal).
+// Relaxes the out-edges of a node with a non-negative prefix. An upper-case edge after an ordinary
+// path is a wait on its label (upper-case rule), which ends the moat when negative; it is ordinary
+// again when the sum is at least -lb of that label (label removal).
 bool Moats::Visit(int u, int lower_edge, std::vector<int>* conflict) {
   const Ticks d = slots_[Size(u)].dist;
   const int c = E(lower_edge).to;
@@ -216,8 +216,8 @@ bool Moats::Visit(int u, int lower_edge, std::vector<int>* conflict) {
   return true;
 }
 
-// A moat from C of length `dist` to `node` (then over `last`, an upper-case edge, when given):
-// the derived edge A -> W, kept when new or tighter. False on a negative cycle through A.
+// A moat from C of length `dist` to `node` (then over `last`, an upper-case edge, when given): the
+// derived edge A -> W, kept when new or tighter. False on a negative cycle through A.
 bool Moats::Derive(int lower_edge, int node, int last, Ticks dist, std::vector<int>* conflict) {
   const Edge& le = E(lower_edge);
   const int w_node = last >= 0 ? E(last).to : node;

@@ -5,7 +5,7 @@
 
 namespace ctb::network {
 
-const char *PointKindName(PointKind k) {
+const char* PointKindName(PointKind k) {
   switch (k) {
     case PointKind::kOrigin:
       return "origin";
@@ -35,7 +35,7 @@ std::string LinkPointer(std::size_t i) { return "/links/" + std::to_string(i); }
 
 }  // namespace
 
-void CheckLinkBounds(const Link &l, const std::string &p, Diagnostics &diags) {
+void CheckLinkBounds(const Link& l, const std::string& p, Diagnostics& diags) {
   if (l.contingent) {
     if (l.lb < 0) diags.Error(p + "/lb", "a contingent link needs lb >= 0");
     if (!l.ub) {
@@ -50,14 +50,13 @@ void CheckLinkBounds(const Link &l, const std::string &p, Diagnostics &diags) {
 
 namespace {
 
-// Marks each point's contingent link (the only one that ends there) and reports
-// a second one.
-std::vector<int> ContingentParents(const Network &net, Diagnostics &diags) {
+// Marks each point's contingent link (the only one that ends there) and reports a second one.
+std::vector<int> ContingentParents(const Network& net, Diagnostics& diags) {
   std::vector<int> parent_link(net.points.size(), -1);
   for (std::size_t i = 0; i < net.links.size(); ++i) {
-    const Link &l = net.links[i];
+    const Link& l = net.links[i];
     if (!l.contingent) continue;
-    int &slot = parent_link[static_cast<std::size_t>(l.to)];
+    int& slot = parent_link[static_cast<std::size_t>(l.to)];
     if (slot >= 0) {
       diags.Error(LinkPointer(i) + "/to", "the point is already the end of contingent link " +
                                               LinkPointer(static_cast<std::size_t>(slot)));
@@ -68,10 +67,9 @@ std::vector<int> ContingentParents(const Network &net, Diagnostics &diags) {
   return parent_link;
 }
 
-// A cycle of contingent links has no first activation: every such cycle is
-// reported once.
-void CheckContingentForest(const Network &net, const std::vector<int> &parent_link,
-                           Diagnostics &diags) {
+// A cycle of contingent links has no first activation: every such cycle is reported once.
+void CheckContingentForest(const Network& net, const std::vector<int>& parent_link,
+                           Diagnostics& diags) {
   const std::size_t n = net.points.size();
   std::vector<int> state(n, 0);  // 0 unseen, 1 on the current walk, 2 done
   for (std::size_t start = 0; start < n; ++start) {
@@ -93,10 +91,10 @@ void CheckContingentForest(const Network &net, const std::vector<int> &parent_li
   }
 }
 
-void CheckKinds(const Network &net, const std::vector<int> &parent_link, Diagnostics &diags) {
+void CheckKinds(const Network& net, const std::vector<int>& parent_link, Diagnostics& diags) {
   int origins = 0;
   for (std::size_t i = 0; i < net.points.size(); ++i) {
-    const Point &p = net.points[i];
+    const Point& p = net.points[i];
     const std::string ptr = "/points/" + std::to_string(i);
     if (p.id != static_cast<int>(i)) diags.Error(ptr + "/id", "id must equal the point's index");
     const bool is_end = parent_link[i] >= 0;
@@ -111,12 +109,12 @@ void CheckKinds(const Network &net, const std::vector<int> &parent_link, Diagnos
 
 }  // namespace
 
-bool Validate(const Network &net, Diagnostics &diags) {
+bool Validate(const Network& net, Diagnostics& diags) {
   Diagnostics local;
   const int n = static_cast<int>(net.points.size());
   bool ends_ok = true;
   for (std::size_t i = 0; i < net.links.size(); ++i) {
-    const Link &l = net.links[i];
+    const Link& l = net.links[i];
     const std::string p = LinkPointer(i);
     if (l.from < 0 || l.from >= n) local.Error(p + "/from", "no such point"), ends_ok = false;
     if (l.to < 0 || l.to >= n) local.Error(p + "/to", "no such point"), ends_ok = false;

@@ -9,8 +9,8 @@ namespace {
 
 using NameIndex = std::unordered_map<std::string, int>;
 
-std::optional<std::vector<std::string>> ParsePoints(const Json &points, NameIndex &index,
-                                                    Diagnostics &diags) {
+std::optional<std::vector<std::string>> ParsePoints(const Json& points, NameIndex& index,
+                                                    Diagnostics& diags) {
   if (!points.is_array()) {
     diags.Error("/points",
                 std::string("expected an array of point names, got ") + JsonTypeName(points));
@@ -21,15 +21,15 @@ std::optional<std::vector<std::string>> ParsePoints(const Json &points, NameInde
   bool ok = true;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::string ptr = "/points/" + std::to_string(i);
-    const Json &p = points[i];
-    if (!p.is_string() || p.get_ref<const std::string &>().empty()) {
+    const Json& p = points[i];
+    if (!p.is_string() || p.get_ref<const std::string&>().empty()) {
       diags.Error(ptr, "expected a non-empty point name, got " +
                            std::string(p.is_string() ? "\"\"" : JsonTypeName(p)));
       ok = false;
       names.emplace_back();
       continue;
     }
-    const std::string &name = p.get_ref<const std::string &>();
+    const std::string& name = p.get_ref<const std::string&>();
     auto [it, fresh] = index.emplace(name, static_cast<int>(i));
     if (!fresh) {
       diags.Error(ptr, "duplicate point name '" + name + "' (first at /points/" +
@@ -42,8 +42,8 @@ std::optional<std::vector<std::string>> ParsePoints(const Json &points, NameInde
   return names;
 }
 
-std::optional<int> PointRef(const ObjectReader &r, const std::string &key, const NameIndex &index,
-                            const std::vector<std::string> &names, Diagnostics &diags) {
+std::optional<int> PointRef(const ObjectReader& r, const std::string& key, const NameIndex& index,
+                            const std::vector<std::string>& names, Diagnostics& diags) {
   std::optional<std::string> name = r.String(key, true);
   if (!name) return std::nullopt;
   auto it = index.find(*name);
@@ -54,9 +54,8 @@ std::optional<int> PointRef(const ObjectReader &r, const std::string &key, const
   return std::nullopt;
 }
 
-// A bound in seconds: a finite number, a whole number of milliseconds, |x| <=
-// kMaxAbsSeconds.
-std::optional<Ticks> Bound(const Json &j, const std::string &ptr, Diagnostics &diags) {
+// A bound in seconds: a finite number, a whole number of milliseconds, |x| <= kMaxAbsSeconds.
+std::optional<Ticks> Bound(const Json& j, const std::string& ptr, Diagnostics& diags) {
   if (!j.is_number()) {
     diags.Error(ptr, std::string("expected a number of seconds, got ") + JsonTypeName(j));
     return std::nullopt;
@@ -72,8 +71,8 @@ std::optional<Ticks> Bound(const Json &j, const std::string &ptr, Diagnostics &d
   return t;
 }
 
-std::optional<Link> ParseLink(const Json &j, std::size_t i, const NameIndex &index,
-                              const std::vector<std::string> &names, Diagnostics &diags) {
+std::optional<Link> ParseLink(const Json& j, std::size_t i, const NameIndex& index,
+                              const std::vector<std::string>& names, Diagnostics& diags) {
   const std::size_t before = diags.errors().size();
   ObjectReader r(j, "/links/" + std::to_string(i), diags);
   if (!r.valid()) return std::nullopt;
@@ -82,12 +81,12 @@ std::optional<Link> ParseLink(const Json &j, std::size_t i, const NameIndex &ind
   const std::optional<int> from = PointRef(r, "from", index, names, diags);
   const std::optional<int> to = PointRef(r, "to", index, names, diags);
   std::optional<Ticks> lb;
-  if (const Json *v = r.Get("lb")) {
+  if (const Json* v = r.Get("lb")) {
     lb = Bound(*v, r.Child("lb"), diags);
   } else {
     diags.Error(r.Child("lb"), "missing required field");
   }
-  if (const Json *v = r.Get("ub"); v && !v->is_null()) l.ub = Bound(*v, r.Child("ub"), diags);
+  if (const Json* v = r.Get("ub"); v && !v->is_null()) l.ub = Bound(*v, r.Child("ub"), diags);
   l.contingent = r.Bool("contingent", false).value_or(false);
   l.why = r.String("why", false).value_or("");
   if (diags.errors().size() != before || !from || !to || !lb) return std::nullopt;
@@ -101,12 +100,12 @@ std::optional<Link> ParseLink(const Json &j, std::size_t i, const NameIndex &ind
 
 }  // namespace
 
-std::optional<Network> ParseCheckBody(const Json &body, Diagnostics &diags) {
+std::optional<Network> ParseCheckBody(const Json& body, Diagnostics& diags) {
   ObjectReader r(body, "", diags);
   if (!r.valid()) return std::nullopt;
   r.CheckKeys({"points", "links"});
-  const Json *points = r.Get("points");
-  const Json *links = r.Get("links");
+  const Json* points = r.Get("points");
+  const Json* links = r.Get("links");
   if (!points) diags.Error("/points", "missing required field");
   if (!links) diags.Error("/links", "missing required field");
   if (links && !links->is_array()) {
@@ -127,30 +126,30 @@ std::optional<Network> ParseCheckBody(const Json &body, Diagnostics &diags) {
     if (l) net.links.push_back(std::move(*l));
   }
   if (!diags.ok()) return std::nullopt;
-  for (const Link &l : net.links) {
+  for (const Link& l : net.links) {
     if (l.contingent) net.points[static_cast<std::size_t>(l.to)].kind = PointKind::kContingent;
   }
   if (!Validate(net, diags)) return std::nullopt;
   return net;
 }
 
-Json CheckResultToJson(const CheckResult &r) {
+Json CheckResultToJson(const CheckResult& r) {
   Json j = {{"consistent", r.consistent}, {"strong", r.strong}, {"dynamic", r.dynamic}};
   if (!r.dynamic) j["conflict"] = r.conflict;
   j["ms"] = r.ms;
   return j;
 }
 
-Json NetworkToJson(const Network &net) {
+Json NetworkToJson(const Network& net) {
   Json points = Json::array();
-  for (const Point &p : net.points) {
+  for (const Point& p : net.points) {
     Json jp = {{"id", p.id}, {"kind", PointKindName(p.kind)}};
     if (!p.name.empty()) jp["name"] = p.name;
-    for (const auto &[k, v] : p.labels) jp[k] = v;
+    for (const auto& [k, v] : p.labels) jp[k] = v;
     points.push_back(std::move(jp));
   }
   Json links = Json::array();
-  for (const Link &l : net.links) {
+  for (const Link& l : net.links) {
     Json jl = {{"from", l.from}, {"to", l.to}, {"lb", SecondsFromTicks(l.lb)}};
     jl["ub"] = l.ub ? Json(SecondsFromTicks(*l.ub)) : Json(nullptr);
     jl["kind"] = l.contingent ? "contingent" : "requirement";

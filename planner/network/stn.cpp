@@ -55,8 +55,8 @@ class GoldbergRadzik {
       }
       changed.clear();
       for (auto it = order.rbegin(); it != order.rend(); ++it) Scan(*it, changed);
-      // A zero-cost cycle can hide a negative one from the search (a node is entered once);
-      // a cycle of the predecessor graph is always negative.
+      // A zero-cost cycle can hide a negative one from the search (a node is entered once); a cycle
+      // of the predecessor graph is always negative.
       if (!changed.empty()) {
         std::vector<int> c = PredecessorCycle();
         if (!c.empty()) return Fail(cycle, std::move(c));
@@ -79,9 +79,9 @@ class GoldbergRadzik {
     return false;
   }
 
-  // Iterative depth-first search over arcs of non-positive reduced cost; post-order into
-  // `order`. A cycle of such arcs is negative unless all its arcs cost 0 (then it is skipped):
-  // each frame keeps the reduced cost from the root, so the cycle's cost is a difference.
+  // Iterative depth-first search over arcs of non-positive reduced cost; post-order into `order`. A
+  // cycle of such arcs is negative unless all its arcs cost 0 (then it is skipped): each frame
+  // keeps the reduced cost from the root, so the cycle's cost is a difference.
   bool Dfs(int root, std::vector<int>& state, std::vector<int>& order, std::vector<int>* cycle) {
     struct Frame {
       int node;

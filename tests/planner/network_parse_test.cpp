@@ -1,5 +1,4 @@
-// The /networks/check body: strict parsing with every error at its JSON
-// pointer.
+// The /networks/check body: strict parsing with every error at its JSON pointer.
 #include <gtest/gtest.h>
 
 #include "planner/network/network_json.h"
@@ -7,19 +6,19 @@
 namespace ctb::network {
 namespace {
 
-std::vector<std::string> Errors(const std::string &text) {
+std::vector<std::string> Errors(const std::string& text) {
   Diagnostics d;
   std::optional<Json> j = ParseJsonStrict(text, d);
   if (j) {
     EXPECT_FALSE(ParseCheckBody(*j, d).has_value());
   }
   std::vector<std::string> out;
-  for (const Diagnostic &e : d.errors()) out.push_back(e.ToString());
+  for (const Diagnostic& e : d.errors()) out.push_back(e.ToString());
   return out;
 }
 
-bool Contains(const std::vector<std::string> &errors, const std::string &needle) {
-  for (const std::string &e : errors) {
+bool Contains(const std::vector<std::string>& errors, const std::string& needle) {
+  for (const std::string& e : errors) {
     if (e.find(needle) != std::string::npos) return true;
   }
   return false;

@@ -1,8 +1,7 @@
-// The checker against the slow oracles (tests/planner/network_oracle.h) on
-// random networks with fixed seeds: consistency against Floyd-Warshall, strong
-// controllability against the enumeration of contingent extremes, dynamic
-// controllability against the discrete-time game, and every conflict checked to
-// be not dynamically controllable itself.
+// The checker against the slow oracles (tests/planner/network_oracle.h) on random networks with
+// fixed seeds: consistency against Floyd-Warshall, strong controllability against the enumeration
+// of contingent extremes, dynamic controllability against the discrete-time game, and every
+// conflict checked to be not dynamically controllable itself.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -14,9 +13,9 @@
 namespace ctb::network {
 namespace {
 
-std::string Describe(const Network &net) {
+std::string Describe(const Network& net) {
   std::string s;
-  for (const Link &l : net.links) {
+  for (const Link& l : net.links) {
     s += "  " + std::to_string(l.from) + (l.contingent ? " ==[" : " -[") + std::to_string(l.lb) +
          "," + (l.ub ? std::to_string(*l.ub) : "inf") + (l.contingent ? "]==> " : "]-> ") +
          std::to_string(l.to) + "\n";
@@ -35,7 +34,7 @@ struct Counts {
   }
 };
 
-void CheckOne(const Network &net, bool with_game, Counts &counts) {
+void CheckOne(const Network& net, bool with_game, Counts& counts) {
   const CheckResult r = CheckNetwork(net);
   ++counts.total;
   counts.consistent += r.consistent;
@@ -46,6 +45,7 @@ void CheckOne(const Network &net, bool with_game, Counts &counts) {
   ASSERT_TRUE(!r.strong || r.dynamic) << Describe(net);
   ASSERT_TRUE(!r.dynamic || r.consistent) << Describe(net);
   ASSERT_EQ(r.dynamic, internal::MoatDynamicControllability(net, nullptr)) << Describe(net);
+  ASSERT_EQ(r.dynamic, IsDynamicallyControllable(net)) << Describe(net);  // even when strong
   if (with_game) {
     ASSERT_EQ(r.dynamic, testing::OracleDynamic(net)) << Describe(net);
   }
@@ -82,8 +82,7 @@ TEST(NetworkRandom, TinyNetworksAgreeWithTheGame) {
   EXPECT_GT(c.total - c.consistent, 50);
 }
 
-// Five points and three contingent links: the game still answers in
-// milliseconds.
+// Five points and three contingent links: the game still answers in milliseconds.
 TEST(NetworkRandom, SmallNetworksAgreeWithTheGame) {
   std::mt19937 rng(7);
   Counts c;
@@ -96,8 +95,7 @@ TEST(NetworkRandom, SmallNetworksAgreeWithTheGame) {
   EXPECT_GT(c.dynamic - c.strong, 20);
 }
 
-// Larger networks (no game): strong against enumeration, consistency,
-// conflicts.
+// Larger networks (no game): strong against enumeration, consistency, conflicts.
 TEST(NetworkRandom, LargerNetworksAgreeWithEnumeration) {
   std::mt19937 rng(99);
   Counts c;

@@ -1,7 +1,6 @@
-// POST /networks/check against the real server binary (contract section 13):
-// answers, located errors, and the 4 MiB body limit of this route (other routes
-// keep max_body_bytes). Answers are recorded for the OpenAPI check of
-// server_test.cpp.
+// POST /networks/check against the real server binary (contract section 13): answers, located
+// errors, and the 4 MiB body limit of this route (other routes keep max_body_bytes). Answers are
+// recorded for the OpenAPI check of server_test.cpp.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -21,9 +20,8 @@ class NetServer : public ctb::testing::ServerProcess {
   }
 };
 
-// A ==[1,3]==> C, C -[0,1]-> B: dynamic (B when C is seen), not strong
-// (tests/planner/ network_check_test.cpp derives it); with C -[-2,-1]-> B
-// instead, not dynamic: conflict [0, 1].
+// A ==[1,3]==> C, C -[0,1]-> B: dynamic (B when C is seen), not strong (tests/planner/
+// network_check_test.cpp derives it); with C -[-2,-1]-> B instead, not dynamic: conflict [0, 1].
 TEST(NetworkService, AnswersTheCheck) {
   NetServer s;
   auto c = s.Client();
@@ -69,9 +67,9 @@ TEST(NetworkService, LocatedErrors) {
   EXPECT_NE(r->body.find("/links/1/ub"), std::string::npos) << r->body;
 }
 
-// A chain of 10,000 points with names padded to make a body above 1 MiB (the
-// default max_body_bytes) and below 4 MiB: accepted here; the same bytes on
-// /validate: 413; beyond 4 MiB on this route: 413.
+// A chain of 10,000 points with names padded to make a body above 1 MiB (the default
+// max_body_bytes) and below 4 MiB: accepted here; the same bytes on /validate: 413; beyond 4 MiB on
+// this route: 413.
 TEST(NetworkService, BodiesUpToFourMiB) {
   NetServer s;
   auto c = s.Client();
@@ -97,7 +95,7 @@ TEST(NetworkService, BodiesUpToFourMiB) {
   EXPECT_LT(a["ms"].get<double>(), 10000);
 
   // Refused from the declared length, before any byte of the body is read.
-  auto head = [](const std::string &path, std::size_t length) {
+  auto head = [](const std::string& path, std::size_t length) {
     return "POST " + path +
            " HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
            "Content-Length: " +
