@@ -17,6 +17,7 @@
 // search), so a negative cycle expands to the input links it came from (as Bhargava et al. do for
 // Morris 2014's edges).
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <queue>
 #include <set>
