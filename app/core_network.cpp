@@ -16,12 +16,12 @@ std::optional<Error> TooLarge(const Json& body) {
     return e;
   };
   if (!body.is_object()) return std::nullopt;
-  if (auto it = body.find("points"); it != body.end() && it->is_array() &&
-                                     it->size() > kMaxNetworkPoints) {
+  if (auto it = body.find("points");
+      it != body.end() && it->is_array() && it->size() > kMaxNetworkPoints) {
     return over("max_network_points", "points", kMaxNetworkPoints, it->size());
   }
-  if (auto it = body.find("links"); it != body.end() && it->is_array() &&
-                                    it->size() > kMaxNetworkLinks) {
+  if (auto it = body.find("links");
+      it != body.end() && it->is_array() && it->size() > kMaxNetworkLinks) {
     return over("max_network_links", "links", kMaxNetworkLinks, it->size());
   }
   return std::nullopt;
@@ -37,8 +37,6 @@ std::variant<Json, Error> CheckNetworkBody(const Json& body) {
   return network::CheckResultToJson(network::CheckNetwork(*net));
 }
 
-std::variant<Json, Error> Core::CheckNetwork(const Json& body) {
-  return CheckNetworkBody(body);
-}
+std::variant<Json, Error> Core::CheckNetwork(const Json& body) { return CheckNetworkBody(body); }
 
 }  // namespace ctb::app

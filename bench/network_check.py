@@ -4,11 +4,16 @@ and 10,000 points, and writes bench/results/network_check.{md,json}.
 
 The networks look like plans: points on a hidden timeline; each point after the first is linked
 from one of the 8 points before it, by a contingent link (20%, [d-w, d+w] around the hidden
-duration d) or a requirement link (bounds around d with random slack, ub sometimes +inf); two
-more requirement links per point to random points at most 20 before it; 1% of points get a
-deadline from point 0. Families: `loose` (wide slack: dynamically controllable) and `tight`
-(narrow slack: mostly not). Times: the check's own `ms` (parse excluded) and the process's wall
-time (reading and parsing the file included).
+duration d, w <= slack/8) or a requirement link (bounds d -/+ slack/2..slack, ub sometimes +inf);
+`extra` more requirement links per point (on average) from random points at most 20 before it
+(d -/+ slack..3 slack); 1% of points get a deadline from point 0 (its hidden time + 5 slack).
+Families: `loose` (slack 40, 2 extra links a point: dynamically controllable), `tight` (slack 2:
+mostly not), `sparse` (slack 40, 0.2 extra links a point: closer to a plan's network, chains
+of durations with a few cross constraints) and `reactive` (sparse, and the point after each
+contingent one must follow it by its hidden gap plus at most 2 s: dynamically but not strongly controllable). A strongly
+controllable network is dynamically controllable without Morris's searches; `reactive` is the
+family that measures them. Times: the check's own `ms` (parse excluded) and the
+process's wall time (reading and parsing the file included).
 
     python3 bench/network_check.py [--sizes 100,1000,10000] [--seeds 3]
 """
@@ -24,7 +29,7 @@ import time
 from common import BIN, ROOT
 
 
-def network(n, seed, slack):
+def network(n, seed, slack, extra=2.0, react=False):
     rng = random.Random(seed)
     t = [0]
     for _ in range(1, n):
@@ -34,20 +39,25 @@ def network(n, seed, slack):
         i = rng.randint(max(0, j - 8), j - 1)
         d = t[j] - t[i]
         if rng.random() < 0.2 and j not in contingent_end:
-            w = rng.randint(0, max(1, d // 4))
+            w = rng.randint(0, max(1, min(d // 4, slack // 8)))
             links.append({"from": f"p{i}", "to": f"p{j}", "lb": max(0, d - w), "ub": d + w,
                           "contingent": True})
             contingent_end.add(j)
         else:
-            links.append({"from": f"p{i}", "to": f"p{j}", "lb": d - rng.randint(0, slack),
-                          "ub": None if rng.random() < 0.3 else d + rng.randint(0, slack)})
-        for _ in range(2):
+            links.append({"from": f"p{i}", "to": f"p{j}", "lb": d - rng.randint(slack // 2, slack),
+                          "ub": None if rng.random() < 0.3 else d + rng.randint(slack // 2, slack)})
+        for _ in range(int(extra) + (1 if rng.random() < extra - int(extra) else 0)):
             k = rng.randint(max(0, j - 20), j - 1)
             d = t[j] - t[k]
-            links.append({"from": f"p{k}", "to": f"p{j}", "lb": d - rng.randint(0, 3 * slack),
-                          "ub": None if rng.random() < 0.5 else d + rng.randint(0, 3 * slack)})
+            links.append({"from": f"p{k}", "to": f"p{j}", "lb": d - rng.randint(slack, 3 * slack),
+                          "ub": None if rng.random() < 0.5 else d + rng.randint(slack, 3 * slack)})
         if rng.random() < 0.01:
             links.append({"from": "p0", "to": f"p{j}", "lb": 0, "ub": t[j] + 5 * slack})
+        if react and j - 1 in contingent_end and j not in contingent_end:
+            # the point after a contingent one follows it by its hidden gap d to d + 2 s: a
+            # reaction to the outcome, not a schedule
+            d = t[j] - t[j - 1]
+            links.append({"from": f"p{j - 1}", "to": f"p{j}", "lb": d, "ub": d + 2})
     return {"points": [f"p{i}" for i in range(n)], "links": links}
 
 
@@ -69,9 +79,11 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in [int(x) for x in args.sizes.split(",")]:
-            for family, slack in (("loose", 40), ("tight", 2)):
+            for family, slack, extra, react in (("loose", 40, 2.0, False), ("tight", 2, 2.0, False),
+                                                ("sparse", 40, 0.2, False),
+                                                ("reactive", 40, 0.2, True)):
                 for seed in range(args.seeds):
-                    net = network(n, seed, slack)
+                    net = network(n, seed, slack, extra, react)
                     path = os.path.join(tmp, f"n{n}_{family}_{seed}.json")
                     with open(path, "w") as f:
                         json.dump(net, f)

@@ -184,6 +184,9 @@ class PlannerService final : public pb::Planner::Service {
       Json body = ToJson(*q);  // empty lists are left out by the JSON mapping
       if (!body.contains("points")) body["points"] = Json::array();
       if (!body.contains("links")) body["links"] = Json::array();
+      for (Json& l : body["links"]) {  // proto3 leaves a 0 bound out; the core requires lb
+        if (l.is_object() && !l.contains("lb")) l["lb"] = 0;
+      }
       auto v = core_.CheckNetwork(body);
       if (auto* e = std::get_if<Error>(&v)) return StatusOf(*e);
       if (auto err = FromJson(std::get<Json>(v), r)) return Status(grpc::StatusCode::INTERNAL, *err);

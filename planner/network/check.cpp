@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "planner/network/dynamic_internal.h"
 #include "planner/network/stn.h"
 
 namespace ctb::network {
@@ -22,14 +23,21 @@ bool IsConsistent(const Network& net, std::vector<int>* cycle) {
   return false;
 }
 
+bool IsDynamicallyControllable(const Network& net, std::vector<int>* conflict) {
+  return internal::MorrisDynamicControllability(net, conflict);
+}
+
 CheckResult CheckNetwork(const Network& net) {
   const auto start = std::chrono::steady_clock::now();
   CheckResult r;
   r.consistent = IsConsistent(net, &r.conflict);
   if (r.consistent) {
     r.strong = IsStronglyControllable(net);
-    r.dynamic = IsDynamicallyControllable(net, &r.conflict);
-  } else if (r.conflict.empty()) {  // Bellman-Ford stopped at its bound without a cycle
+    // One schedule for every outcome is also a dispatch strategy: strong implies dynamic, and
+    // Morris's searches (the costly part) are only needed when the network is not strong.
+    r.dynamic = r.strong || IsDynamicallyControllable(net, &r.conflict);
+  } else if (r.conflict.empty()) {  // Bellman-Ford stopped at its bound without
+                                    // a cycle
     IsDynamicallyControllable(net, &r.conflict);
   }
   const auto end = std::chrono::steady_clock::now();

@@ -1,16 +1,17 @@
 // Consistency, strong and dynamic controllability of a temporal network (docs/uncertainty.md).
 //
 //   - consistent: some assignment of times satisfies every link (contingent links read as
-//     requirements). Bellman-Ford (SPFA) from a virtual source; the certificate of an
-//     inconsistent network is a negative cycle of links.
-//   - strong: one time for every controllable point works for every outcome of the contingent
-//     links (Vidal & Fargier 1999): each link is rewritten in terms of the activation points of
-//     its contingent ends with the worst-case bounds, and the resulting STN must be consistent.
+//     requirements). Bellman-Ford (Goldberg-Radzik order) from a virtual source; the certificate of
+//     an inconsistent network is a negative cycle of links.
+//   - strong: one time for every controllable point works for every outcome of the contingent links
+//     (Vidal & Fargier 1999): each link is rewritten in terms of the activation points of its
+//     contingent ends with the worst-case bounds, and the resulting STN must be consistent.
 //   - dynamic: a dispatcher that sees outcomes as they happen (instantaneous reaction) always
-//     succeeds; Morris 2014's O(n^3) DCbackprop (semi-reducible negative cycles).
+//     succeeds; Morris 2014's O(n^3) DCbackprop (semi-reducible negative cycles), without
+//     recursion.
 //   - conflict (when not dynamic): indices of input links whose subnetwork (every point kept) is
-//     itself not dynamically controllable: the provenance of the negative cycle found, as
-//     Bhargava et al. 2018 extract it.
+//     itself not dynamically controllable: the provenance of the negative cycle found, as Bhargava
+//     et al. 2018 extract it.
 // Every function expects a network that passed Validate (network.h). Thread-safe; never throws
 // (an allocation failure aside).
 #pragma once

@@ -84,7 +84,8 @@ void CheckContingentForest(const Network& net, const std::vector<int>& parent_li
     }
     if (state[v] == 1 && parent_link[v] >= 0 && !walk.empty()) {
       diags.Error(LinkPointer(static_cast<std::size_t>(parent_link[v])),
-                  "contingent links form a cycle (a contingent point activates itself)");
+                  "contingent links form a cycle (a contingent point activates "
+                  "itself)");
     }
     for (std::size_t w : walk) state[w] = 2;
   }

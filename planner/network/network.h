@@ -2,17 +2,17 @@
 // `/networks/check` front ends and by the plan-to-network derivation.
 //
 // Time is exact: a bound is a whole number of ticks (`Ticks`, 1 tick = 1 ms). Controllability
-// checks add and compare sums of bounds along paths; with doubles a zero-length cycle can come
-// out as -1e-15 and flip an answer, with integers it cannot. The contract's JSON carries seconds
+// checks add and compare sums of bounds along paths; with doubles a zero-length cycle can come out
+// as -1e-15 and flip an answer, with integers it cannot. The contract's JSON carries seconds
 // (integers in practice, fractions allowed by domains); `TicksFromSeconds` converts exactly and
-// refuses values that are not a multiple of 1 ms or whose magnitude exceeds kMaxAbsSeconds, so
-// that no sum over a path of up to 10^6 links can overflow.
+// refuses values that are not a multiple of 1 ms or whose magnitude exceeds kMaxAbsSeconds, so that
+// no sum over a path of up to 10^6 links can overflow.
 //
 // Semantics of a link from u to v with bounds [lb, ub]: t(v) - t(u) in [lb, ub].
 //   - requirement link: the dispatcher must make it hold; lb may be negative, ub may be +inf;
-//   - contingent link: nature picks t(v) - t(u) anywhere in [lb, ub] (0 <= lb <= ub, ub finite);
-//     v is then a contingent point and the end of exactly one contingent link; u is its
-//     activation point. Contingent links form a forest (no contingent cycle).
+//   - contingent link: nature picks t(v) - t(u) anywhere in [lb, ub] (0 <= lb <= ub, ub finite); v
+//     is then a contingent point and the end of exactly one contingent link; u is its activation
+//     point. Contingent links form a forest (no contingent cycle).
 // Thread-safe: plain values.
 #pragma once
 
@@ -37,8 +37,8 @@ enum class PointKind { kOrigin, kControllable, kContingent };
 const char* PointKindName(PointKind k);  // "origin" | "controllable" | "contingent"
 
 struct Point {
-  int id = 0;               // the index of the point in Network::points
-  std::string name;         // a bare network's name ("a"); derived networks may leave it empty
+  int id = 0;        // the index of the point in Network::points
+  std::string name;  // a bare network's name ("a"); derived networks may leave it empty
   PointKind kind = PointKind::kControllable;
   // Optional descriptive labels printed with the point (automaton, from, to, command, ...).
   std::map<std::string, std::string> labels;
@@ -63,16 +63,16 @@ struct Network {
 std::optional<Ticks> TicksFromSeconds(double seconds);
 double SecondsFromTicks(Ticks t);
 
-// The rules on one link's bounds (contingent: 0 <= lb <= ub < inf; requirement: lb <= ub),
-// recorded at pointer + "/lb" or "/ub".
+// The rules on one link's bounds (contingent: 0 <= lb <= ub < inf; requirement: lb <= ub), recorded
+// at pointer + "/lb" or "/ub".
 void CheckLinkBounds(const Link& link, const std::string& pointer, Diagnostics& diags);
 
-// Structural rules of a network: link ends are valid point indices, contingent links have
-// 0 <= lb <= ub < inf, requirement links lb <= ub, no point is the end of two contingent links,
-// the contingent links form no cycle, a point's kind agrees with the links (contingent iff the
-// end of a contingent link; at most one origin, which is no contingent link's end). Each problem
-// is recorded at "/links/<i>" (or "/points/<i>") plus "/lb", "/ub" where it is a bound's.
-// Returns diags.ok() for this network.
+// Structural rules of a network: link ends are valid point indices, contingent links have 0 <= lb
+// <= ub < inf, requirement links lb <= ub, no point is the end of two contingent links, the
+// contingent links form no cycle, a point's kind agrees with the links (contingent iff the end of a
+// contingent link; at most one origin, which is no contingent link's end). Each problem is recorded
+// at "/links/<i>" (or "/points/<i>") plus "/lb", "/ub" where it is a bound's. Returns diags.ok()
+// for this network.
 bool Validate(const Network& net, Diagnostics& diags);
 
 }  // namespace ctb::network

@@ -12,8 +12,8 @@ using NameIndex = std::unordered_map<std::string, int>;
 std::optional<std::vector<std::string>> ParsePoints(const Json& points, NameIndex& index,
                                                     Diagnostics& diags) {
   if (!points.is_array()) {
-    diags.Error("/points", std::string("expected an array of point names, got ") +
-                               JsonTypeName(points));
+    diags.Error("/points",
+                std::string("expected an array of point names, got ") + JsonTypeName(points));
     return std::nullopt;
   }
   std::vector<std::string> names;
@@ -62,8 +62,11 @@ std::optional<Ticks> Bound(const Json& j, const std::string& ptr, Diagnostics& d
   }
   std::optional<Ticks> t = TicksFromSeconds(j.get<double>());
   if (!t) {
-    diags.Error(ptr, "expected a finite number of seconds within +-1e9 and a whole number of "
-                     "milliseconds, got " + j.dump());
+    diags.Error(ptr,
+                "expected a finite number of seconds within +-1e9 and a "
+                "whole number of "
+                "milliseconds, got " +
+                    j.dump());
   }
   return t;
 }

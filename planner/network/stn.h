@@ -1,7 +1,7 @@
 // Internal to planner/network: simple temporal networks as distance graphs and Bellman-Ford.
 //
-// An edge u -> v of weight w states t(v) - t(u) <= w. `link` is the input link the edge comes
-// from (for certificates), or -1.
+// An edge u -> v of weight w states t(v) - t(u) <= w. `link` is the input link the edge comes from
+// (for certificates), or -1.
 #pragma once
 
 #include <vector>
@@ -20,11 +20,11 @@ struct StnEdge {
 // The distance graph of every link read as a requirement: u -> v ub (when finite), v -> u -lb.
 std::vector<StnEdge> DistanceEdges(const Network& net);
 
-// SPFA from a virtual source joined to every node by a 0 edge. Returns true when there is no
-// negative cycle; `potential` (optional) then receives shortest distances (<= 0) from the virtual
-// source, a feasible schedule. Otherwise `cycle` (optional) receives the indices into `edges` of
-// one negative cycle. O(n m) in the worst case; the predecessor graph is checked for a cycle
-// after every n relaxations, so a negative cycle is found within O(n m) as well.
+// Bellman-Ford with Goldberg-Radzik's ordering from a virtual source joined to every node by a 0
+// edge. Returns true when there is no negative cycle; `potential` (optional) then receives
+// shortest distances (<= 0) from the virtual source, a feasible schedule. Otherwise `cycle`
+// (optional) receives the indices into `edges` of one negative cycle, in order. O(n m) in the
+// worst case, near-linear on plan-like networks.
 bool BellmanFord(int n, const std::vector<StnEdge>& edges, std::vector<Ticks>* potential,
                  std::vector<int>* cycle);
 

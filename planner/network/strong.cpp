@@ -1,9 +1,9 @@
 // Strong controllability (Vidal & Fargier 1999, "Handling contingency in temporal constraint
 // networks"): every point is its controllable root (the first point up its chain of contingent
-// links) plus the sum of the durations along the chain. A requirement t(Y) - t(X) in [lb, ub]
-// holds for every outcome iff it holds for the extreme sums; the durations on the common part of
-// the two chains cancel. What is left is an STN over the roots, consistent iff the network is
-// strongly controllable.
+// links) plus the sum of the durations along the chain. A requirement t(Y) - t(X) in [lb, ub] holds
+// for every outcome iff it holds for the extreme sums; the durations on the common part of the two
+// chains cancel. What is left is an STN over the roots, consistent iff the network is strongly
+// controllable.
 #include <algorithm>
 
 #include "planner/network/check.h"

@@ -36,11 +36,11 @@ assert a["conflict"] == [0, 1], a' "$out" && ok "not dc: conflict [0, 1]" || bad
 
 # Errors at their pointers, exit 1.
 cat > "$T/bad.json" <<'JSON'
-{"points": ["A", "B"], "links": [{"from": "A", "to": "b", "lb": 0}, {"from": "A", "to": "B", "lb": 1, "ub": 0}]}
+{"points": ["start", "end"], "links": [{"from": "start", "to": "edn", "lb": 0}, {"from": "start", "to": "end", "lb": 1, "ub": 0}]}
 JSON
 "$BIN" network check "$T/bad.json" > /dev/null 2> "$T/err.txt"; rc=$?
 [ $rc = 1 ] && ok "bad: exit 1" || bad "bad: exit $rc"
-grep -q "/links/0/to: unknown point 'b' (did you mean 'B'?)" "$T/err.txt" && ok "bad: unknown point located" || { bad "bad: unknown point"; cat "$T/err.txt"; }
+grep -q "/links/0/to: unknown point 'edn' (did you mean 'end'?)" "$T/err.txt" && ok "bad: unknown point located" || { bad "bad: unknown point"; cat "$T/err.txt"; }
 grep -q "/links/1/ub: ub is below lb" "$T/err.txt" && ok "bad: ub below lb located" || { bad "bad: ub below lb"; cat "$T/err.txt"; }
 "$BIN" network check "$T/missing.json" > /dev/null 2>&1; rc=$?
 [ $rc = 1 ] && ok "missing file: exit 1" || bad "missing file: exit $rc"

@@ -84,7 +84,8 @@ class Game {
     clamp_ = static_cast<int>(biggest) + 1;
     parent_.assign(static_cast<std::size_t>(n_), -1);
     for (std::size_t i = 0; i < net.links.size(); ++i) {
-      if (net.links[i].contingent) parent_[static_cast<std::size_t>(net.links[i].to)] = static_cast<int>(i);
+      if (net.links[i].contingent)
+        parent_[static_cast<std::size_t>(net.links[i].to)] = static_cast<int>(i);
     }
   }
 
@@ -95,11 +96,13 @@ class Game {
   }
 
  private:
-  using State = std::array<int, 8>;  // per point: -1 not yet, else now - its time (clamped)
+  using State = std::array<int, 8>;  // per point: -1 not yet, else now - its
+                                     // time (clamped)
 
   std::uint64_t Key(const State& s) const {
     std::uint64_t k = 0;
-    for (int i = 0; i < n_; ++i) k = k * 64 + static_cast<std::uint64_t>(s[static_cast<std::size_t>(i)] + 1);
+    for (int i = 0; i < n_; ++i)
+      k = k * 64 + static_cast<std::uint64_t>(s[static_cast<std::size_t>(i)] + 1);
     return k;
   }
 
@@ -179,7 +182,8 @@ class Game {
     }
     if (all) return true;
     for (int p = 0; p < n_; ++p) {
-      if (Rel(s, p) >= 0 || net_.points[static_cast<std::size_t>(p)].kind == PointKind::kContingent) continue;
+      if (Rel(s, p) >= 0 || net_.points[static_cast<std::size_t>(p)].kind == PointKind::kContingent)
+        continue;
       State t = s;
       t[static_cast<std::size_t>(p)] = 0;
       if (!HoldsAt(t, p)) continue;
@@ -223,23 +227,47 @@ bool OracleDynamic(const Network& net) {
 
 Network RandomNetwork(std::mt19937& rng, int n, int k, int m, int max_bound) {
   auto uni = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  // Half the networks are planted: bounds around a hidden schedule (times increasing with the
+  // index), so that most are consistent and the interesting answers (dynamic but not strong,
+  // consistent but not dynamic) are frequent; the other half have free bounds.
+  const bool planted = uni(0, 1) == 1;
+  std::vector<int> t(static_cast<std::size_t>(n), 0);
+  for (int i = 1; i < n; ++i)
+    t[static_cast<std::size_t>(i)] =
+        t[static_cast<std::size_t>(i - 1)] + uni(0, std::max(1, max_bound / 2));
+  auto hidden = [&](int u, int v) {
+    return t[static_cast<std::size_t>(v)] - t[static_cast<std::size_t>(u)];
+  };
+  auto clampb = [&](Ticks x) { return std::clamp<Ticks>(x, -max_bound, max_bound); };
   Network net;
-  for (int i = 0; i < n; ++i) net.points.push_back({i, "p" + std::to_string(i), PointKind::kControllable, {}});
+  for (int i = 0; i < n; ++i)
+    net.points.push_back({i, "p" + std::to_string(i), PointKind::kControllable, {}});
   for (int j = 0; j < k && n >= 2; ++j) {
     const int c = uni(1, n - 1);
     if (net.points[static_cast<std::size_t>(c)].kind == PointKind::kContingent) continue;
     const int a = uni(0, c - 1);  // activations come earlier in index order: a forest
-    const Ticks lb = uni(0, max_bound);
-    net.links.push_back({a, c, lb, lb + uni(0, max_bound - static_cast<int>(lb)), true, ""});
+    Ticks lb = uni(0, max_bound), ub = lb + uni(0, max_bound - static_cast<int>(lb));
+    if (planted) {
+      const Ticks d = std::min<Ticks>(hidden(a, c), max_bound);
+      lb = std::max<Ticks>(0, d - uni(0, 2));
+      ub = std::min<Ticks>(max_bound, d + uni(0, 2));
+    }
+    net.links.push_back({a, c, lb, ub, true, ""});
     net.points[static_cast<std::size_t>(c)].kind = PointKind::kContingent;
   }
   for (int j = 0; j < m; ++j) {
     const int u = uni(0, n - 1);
     int v = uni(0, n - 2);
     if (v >= u) ++v;
-    const Ticks lb = uni(-max_bound, max_bound);
+    Ticks lb = uni(-max_bound, max_bound);
     std::optional<Ticks> ub;
-    if (uni(0, 3) > 0) ub = std::min<Ticks>(lb + uni(0, max_bound), max_bound);
+    if (planted) {
+      const Ticks d = hidden(u, v);
+      lb = clampb(d - uni(0, 2));
+      if (uni(0, 3) > 0) ub = clampb(d + uni(0, 2));
+    } else if (uni(0, 3) > 0) {
+      ub = std::min<Ticks>(lb + uni(0, max_bound), max_bound);
+    }
     if (ub && *ub < lb) ub = lb;
     net.links.push_back({u, v, lb, ub, false, ""});
   }

@@ -9,7 +9,9 @@ namespace {
 std::vector<std::string> Errors(const std::string& text) {
   Diagnostics d;
   std::optional<Json> j = ParseJsonStrict(text, d);
-  if (j) EXPECT_FALSE(ParseCheckBody(*j, d).has_value());
+  if (j) {
+    EXPECT_FALSE(ParseCheckBody(*j, d).has_value());
+  }
   std::vector<std::string> out;
   for (const Diagnostic& e : d.errors()) out.push_back(e.ToString());
   return out;
@@ -70,7 +72,8 @@ TEST(NetworkParse, ContingentRules) {
   const auto twice = Errors(R"({"points": ["a", "b", "c"], "links": [
       {"from": "a", "to": "b", "lb": 1, "ub": 2, "contingent": true},
       {"from": "c", "to": "b", "lb": 1, "ub": 2, "contingent": true}]})");
-  EXPECT_TRUE(Contains(twice, "/links/1/to: the point is already the end of contingent link /links/0"));
+  EXPECT_TRUE(
+      Contains(twice, "/links/1/to: the point is already the end of contingent link /links/0"));
   const auto e = Errors(R"({"points": ["a", "b", "c"], "links": [
       {"from": "a", "to": "b", "lb": 1, "ub": 2, "contingent": true},
       {"from": "a", "to": "c", "lb": -1, "ub": 2, "contingent": true},
@@ -88,14 +91,16 @@ TEST(NetworkParse, ContingentCycle) {
 
 TEST(NetworkParse, StrictKeysAndShape) {
   EXPECT_TRUE(Contains(Errors(R"({"points": [], "links": [], "extra": 1})"), "/extra"));
-  EXPECT_TRUE(Contains(Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b", "lb": 0, "weight": 1}]})"),
-                       "/links/0/weight"));
+  EXPECT_TRUE(Contains(
+      Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b", "lb": 0, "weight": 1}]})"),
+      "/links/0/weight"));
   EXPECT_TRUE(Contains(Errors(R"({"points": ["a","b"], "links": [{"from": "a", "to": "b"}]})"),
                        "/links/0/lb: missing required field"));
   EXPECT_TRUE(Contains(Errors(R"({"links": []})"), "/points: missing required field"));
   EXPECT_TRUE(Contains(Errors(R"({"points": ["a"], "links": {}})"), "/links: expected an array"));
-  EXPECT_TRUE(Contains(Errors(R"({"points": ["a", "b"], "links": [{"from": "a", "to": "a", "lb": 0}]})"),
-                       "/links/0: a link from a point to itself"));
+  EXPECT_TRUE(
+      Contains(Errors(R"({"points": ["a", "b"], "links": [{"from": "a", "to": "a", "lb": 0}]})"),
+               "/links/0: a link from a point to itself"));
   EXPECT_TRUE(Contains(Errors(R"([1])"), "expected"));
 }
 

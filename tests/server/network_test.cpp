@@ -1,9 +1,9 @@
 // POST /networks/check against the real server binary (contract section 13): answers, located
 // errors, and the 4 MiB body limit of this route (other routes keep max_body_bytes). Answers are
 // recorded for the OpenAPI check of server_test.cpp.
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "harness.h"
 
@@ -12,8 +12,7 @@ namespace {
 
 class NetServer : public ctb::testing::ServerProcess {
  public:
-  explicit NetServer(Json config = Json::object())
-      : ServerProcess(std::move(config), {}, {}, "") {}
+  explicit NetServer(Json config = Json::object()) : ServerProcess(std::move(config), {}, {}, "") {}
   ctb::testing::RecordingClient Client() const {
     ctb::testing::RecordingClient c("127.0.0.1", port());
     c.set_read_timeout(60, 0);
@@ -27,9 +26,10 @@ TEST(NetworkService, AnswersTheCheck) {
   NetServer s;
   auto c = s.Client();
   Json body = {{"points", {"A", "B", "C"}},
-               {"links", {{{"from", "A"}, {"to", "C"}, {"lb", 1}, {"ub", 3}, {"contingent", true}},
-                          {{"from", "C"}, {"to", "B"}, {"lb", 0}, {"ub", 1}},
-                          {{"from", "A"}, {"to", "B"}, {"lb", 0}, {"ub", nullptr}}}}};
+               {"links",
+                {{{"from", "A"}, {"to", "C"}, {"lb", 1}, {"ub", 3}, {"contingent", true}},
+                 {{"from", "C"}, {"to", "B"}, {"lb", 0}, {"ub", 1}},
+                 {{"from", "A"}, {"to", "B"}, {"lb", 0}, {"ub", nullptr}}}}};
   auto r = c.Post("/networks/check", body.dump(), "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
@@ -54,8 +54,9 @@ TEST(NetworkService, LocatedErrors) {
   NetServer s;
   auto c = s.Client();
   Json body = {{"points", {"start", "end"}},
-               {"links", {{{"from", "start"}, {"to", "edn"}, {"lb", 0}},
-                          {{"from", "start"}, {"to", "end"}, {"lb", 2}, {"ub", 1}}}}};
+               {"links",
+                {{{"from", "start"}, {"to", "edn"}, {"lb", 0}},
+                 {{"from", "start"}, {"to", "end"}, {"lb", 2}, {"ub", 1}}}}};
   auto r = c.Post("/networks/check", body.dump(), "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 400);
@@ -67,8 +68,8 @@ TEST(NetworkService, LocatedErrors) {
 }
 
 // A chain of 10,000 points with names padded to make a body above 1 MiB (the default
-// max_body_bytes) and below 4 MiB: accepted here; the same bytes on /validate: 413; beyond 4 MiB
-// on this route: 413.
+// max_body_bytes) and below 4 MiB: accepted here; the same bytes on /validate: 413; beyond 4 MiB on
+// this route: 413.
 TEST(NetworkService, BodiesUpToFourMiB) {
   NetServer s;
   auto c = s.Client();
@@ -76,7 +77,10 @@ TEST(NetworkService, BodiesUpToFourMiB) {
   const int n = 10000;
   for (int i = 0; i < n; ++i) points.push_back("point-" + std::to_string(i) + std::string(40, 'x'));
   for (int i = 0; i + 1 < n; ++i) {
-    links.push_back({{"from", points[i]}, {"to", points[i + 1]}, {"lb", 1}, {"ub", 5},
+    links.push_back({{"from", points[i]},
+                     {"to", points[i + 1]},
+                     {"lb", 1},
+                     {"ub", 5},
                      {"contingent", i % 4 == 0}});
   }
   const std::string text = Json({{"points", points}, {"links", links}}).dump();
@@ -92,8 +96,10 @@ TEST(NetworkService, BodiesUpToFourMiB) {
 
   // Refused from the declared length, before any byte of the body is read.
   auto head = [](const std::string& path, std::size_t length) {
-    return "POST " + path + " HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-           "Content-Length: " + std::to_string(length) + "\r\nConnection: close\r\n\r\n";
+    return "POST " + path +
+           " HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+           "Content-Length: " +
+           std::to_string(length) + "\r\nConnection: close\r\n\r\n";
   };
   EXPECT_EQ(ctb::testing::RawRequest(s.port(), head("/validate", text.size())).status, 413);
   EXPECT_EQ(ctb::testing::RawRequest(s.port(), head("/networks/check", (4 << 20) + 1)).status, 413);
