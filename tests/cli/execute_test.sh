@@ -136,4 +136,39 @@ rc=$?
 if [ $rc = 2 ] && grep -q "expected delay:AUTOMATON:SECONDS" "$T/err.txt"; then ok "a bad --fault exits 2 and says what is expected"
 else bad "a bad --fault (rc=$rc)"; cat "$T/err.txt"; fi
 
+# 6. Simulated executions of a flexible plan (contract section 13): nature draws the warm-up;
+#    the dynamic dispatcher never breaks the "on exactly 10 s" plan, fixed times mostly do; with
+#    --json each run's realized trajectory is a line, and the totals come last.
+U=config/uncertain
+out=$("$BIN" execute --domain $U/presentation.json $U/on_ten_then_off.json --sample distribution \
+      --runs 300 --seed 3); rc=$?
+if [ $rc = 0 ] && [ "$out" = '{"runs":300,"succeeded":300,"violated":0}' ]; then
+  ok "300 dynamic executions of a dynamically controllable plan: no violation"
+else bad "dynamic executions (rc=$rc): $out"; fi
+out=$("$BIN" execute --domain $U/presentation.json $U/on_ten_then_off.json --sample uniform \
+      --runs 300 --seed 3 --dispatch fixed); rc=$?
+if [ $rc = 5 ] && python3 -c "import json,sys; d=json.loads(sys.argv[1]); assert d['runs']==300 and d['violated']>200, d" "$out"; then
+  ok "fixed-time dispatch of the same plan breaks most runs (exit 5): $out"
+else bad "fixed-time dispatch (rc=$rc): $out"; fi
+"$BIN" execute --domain $U/presentation.json $U/on_ten_then_off.json --sample uniform --runs 5 \
+  --seed 9 --json > "$T/runs.jsonl"; rc=$?
+if [ $rc = 0 ] && python3 - "$T/runs.jsonl" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+assert len(lines) == 6, len(lines)
+for r in lines[:5]:
+    t = r["trajectory"]
+    assert r["succeeded"] and t["events"][0] == 0, r
+    on = next(x["time"] for x in t["transitions"] if x["to"] == "projOn")
+    off = next(x["time"] for x in t["transitions"] if x["to"] == "projConfirm")
+    assert 20 <= on <= 40 and off == on + 10, (on, off)
+assert lines[5] == {"runs": 5, "succeeded": 5, "violated": 0}, lines[5]
+PY
+then ok "--json: five realized trajectories (off 10 s after on, on within 20-40 s) and the totals"
+else bad "--json runs (rc=$rc)"; cat "$T/runs.jsonl"; fi
+out=$("$BIN" execute --domain $U/presentation.json $U/together_within_5.json --sample uniform --runs 3 2>&1); rc=$?
+if [ $rc = 3 ] && [[ "$out" == *"not dynamically controllable"* ]]; then
+  ok "a plan that is not controllable is not executed (exit 3) unless --controllability none"
+else bad "uncontrollable plan (rc=$rc): $out"; fi
+
 exit $fail
