@@ -48,7 +48,7 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
                 "the problem is for domain '" + p->domain_name + "', not '" + d->name + "'"});
   }
   if (!d || (problem && !p)) return issues;
-  auto sv = AnalyzeStateVars(*d, issues, out.warnings);
+  auto sv = AnalyzeStateVars(*d, p ? &*p : nullptr, issues, out.warnings);
   if (!sv) return issues;
   auto g = Ground(*d, *sv, p ? &*p : nullptr, options, issues, out.warnings);
   if (!g) return issues;

@@ -1,7 +1,11 @@
-// Writing the ground model: one automaton per state variable, a command location chain per
-// durative action, guards from the conditions, and guards that protect over-all conditions.
+// Writing the ground model: one automaton per state variable; per ground action a command that
+// every variable it reads or changes takes at its start (and at its end), commanded transitions
+// of every variable it changes at that event, step locations for the variables it changes at
+// its end (left by commanded transitions its duration later), and guards that protect over-all
+// conditions. Timed initial literals are automatic transitions of their atoms' automata.
 #include "interchange/pddl/internal/writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -66,20 +70,45 @@ class Writer {
   std::optional<Written> Run();
 
  private:
+  struct Loc {
+    std::string name;
+    std::string value;  // the value the variable has while here
+    bool step = false;
+  };
+  struct Trans {
+    int var = -1, from = -1, to = -1;
+    std::vector<std::string> guard;
+    std::optional<std::pair<double, std::optional<double>>> duration;
+    int cost = 0;
+    int action = -1;  // -1: a timed initial literal
+  };
+  // A ground action's plan: per changed variable its source values and their step locations.
+  struct Plan {
+    std::vector<const VarUse*> changed, at_end, read_start, read_end;
+    std::map<const VarUse*, std::vector<std::string>> sources;
+  };
+
   int VarIndex(const VarKey& k) const {
     auto it = var_index_.find(k);
     return it == var_index_.end() ? -1 : it->second;
   }
-  void Index();
   void NameAutomata();
   std::string ValueName(const VarKey& k, const std::string& value) const;
-  void NameLocations();
-  std::string Atom(int var, const std::string& value, bool equal, const std::string& index) const;
-  std::string Guard(std::size_t action) const;
+  void BaseLocations();
+  int LocOf(int var, const std::string& value, const std::string& step_name);
+  std::string Accept(int var, const std::string& value, const std::string& index) const;
+  std::string Refuse(int var, const std::string& value, const std::string& index) const;
+  std::string InLocs(int var, const std::vector<int>& locs, const std::string& index) const;
+  void Command(int var, std::size_t action);
+  std::optional<Plan> MakePlan(std::size_t x);
+  std::vector<std::string> Reads(const VarUse& u, int first, int last, std::size_t x);
+  void WriteAction(std::size_t x);
+  void Timelines();
   void Protect();
   std::optional<double> Resolution();
   Json Duration(double v) const;
-  Json Automata();
+  Json Automata() const;
+  std::string Unfinished() const;
   std::optional<std::string> GoalText(const Goal& goal);
 
   const DomainAst& d_;
@@ -88,33 +117,289 @@ class Writer {
   const ProblemAst* p_;
   const ImportOptions& o_;
   std::vector<Issue>& issues_;
-  std::vector<std::string> automaton_;                        // per variable
-  std::vector<std::map<std::string, std::string>> location_;  // per variable: value -> name
-  std::vector<std::string> step_;                  // per ground action: timed location and command
-  std::vector<int> var_of_;                        // per ground action
-  std::vector<std::vector<std::string>> protect_;  // per ground action: extra guard atoms
   std::map<VarKey, int> var_index_;
-  // Ground actions by (variable, value they leave) and (variable, value they enter).
-  std::map<std::pair<int, std::string>, std::vector<std::size_t>> leaving_, entering_;
+  std::vector<std::string> automaton_;                      // per variable
+  std::vector<std::vector<Loc>> locs_;                      // per variable
+  std::vector<NameSet> loc_names_;                          // per variable
+  std::vector<std::vector<std::string>> commands_;          // per variable
+  std::vector<std::string> cmd_;                            // per ground action
+  std::vector<int> timing_;                                 // per ground action: var or -1
+  std::vector<std::vector<int>> timing_steps_;              // per ground action
+  std::vector<std::vector<std::pair<int, const VarUse*>>> over_all_;  // per action: protected
+  std::vector<std::set<int>> touches_;                      // per action: variables changed
+  std::vector<Trans> trans_;
   double resolution_ = 1;
 };
 
-void Writer::Index() {
-  for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    var_index_[g_.variables[i].key] = static_cast<int>(i);
-  for (std::size_t a = 0; a < g_.actions.size(); ++a) {
-    int v = VarIndex(g_.actions[a].var);
-    leaving_[{v, g_.actions[a].from}].push_back(a);
-    entering_[{v, g_.actions[a].to}].push_back(a);
+void Writer::BaseLocations() {
+  locs_.resize(g_.variables.size());
+  loc_names_.resize(g_.variables.size());
+  commands_.resize(g_.variables.size());
+  for (std::size_t i = 0; i < g_.variables.size(); ++i) {
+    const Variable& v = g_.variables[i];
+    if (!v.timeline.empty()) continue;  // Timelines()
+    for (const auto& value : v.values)
+      locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(v.key, value)), value});
   }
 }
 
-const std::vector<std::size_t>& Lookup(
-    const std::map<std::pair<int, std::string>, std::vector<std::size_t>>& m, int v,
-    const std::string& value) {
-  static const std::vector<std::size_t> kNone;
-  auto it = m.find({v, value});
-  return it == m.end() ? kNone : it->second;
+// The base location of a value, or with a step name, the step location holding that value.
+int Writer::LocOf(int var, const std::string& value, const std::string& step_name) {
+  auto& locs = locs_[var];
+  for (std::size_t k = 0; k < locs.size(); ++k)
+    if (locs[k].value == value && (step_name.empty() ? !locs[k].step
+                                                     : locs[k].name.rfind(step_name, 0) == 0 &&
+                                                           locs[k].step))
+      return static_cast<int>(k);
+  if (step_name.empty()) return -1;
+  locs.push_back(Loc{loc_names_[var].Take(step_name), value, true});
+  return static_cast<int>(locs.size()) - 1;
+}
+
+std::string Writer::Accept(int var, const std::string& value, const std::string& index) const {
+  std::vector<std::string> atoms;
+  for (const auto& l : locs_[var])
+    if (l.value == value) atoms.push_back(automaton_[var] + "l[" + index + "]==" + l.name);
+  if (atoms.empty()) return "false";
+  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
+}
+
+std::string Writer::Refuse(int var, const std::string& value, const std::string& index) const {
+  std::vector<std::string> atoms;
+  for (const auto& l : locs_[var])
+    if (l.value == value) atoms.push_back(automaton_[var] + "l[" + index + "]!=" + l.name);
+  return atoms.empty() ? "true" : Join(atoms, " /\\ ");
+}
+
+std::string Writer::InLocs(int var, const std::vector<int>& locs, const std::string& index) const {
+  std::vector<std::string> atoms;
+  for (int k : locs) atoms.push_back(automaton_[var] + "l[" + index + "]==" + locs_[var][k].name);
+  if (atoms.empty()) return "false";
+  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
+}
+
+void Writer::Command(int var, std::size_t action) {
+  auto& c = commands_[var];
+  if (std::find(c.begin(), c.end(), cmd_[action]) == c.end()) c.push_back(cmd_[action]);
+}
+
+// Which variables the action changes (at start, at end), reads, and from which values each
+// changed variable can start; nullopt when some changed variable has none (never applicable).
+std::optional<Writer::Plan> Writer::MakePlan(std::size_t x) {
+  const GroundAction& ga = g_.actions[x];
+  bool durative = d_.actions[ga.action].durative;
+  Plan plan;
+  for (const auto& u : ga.uses) {
+    if (u.Changes()) plan.changed.push_back(&u);
+    if (durative && u.eff_end) plan.at_end.push_back(&u);
+  }
+  if (plan.changed.empty()) return std::nullopt;
+  if (durative && plan.at_end.empty()) plan.at_end.push_back(plan.changed[0]);
+  for (const auto& u : ga.uses) {
+    bool changed = u.Changes(), ends = std::count(plan.at_end.begin(), plan.at_end.end(), &u);
+    if (!changed && (u.need[0] || u.need[1] || !u.forbid[0].empty() || !u.forbid[1].empty()))
+      plan.read_start.push_back(&u);
+    if (!ends && (u.need[2] || !u.forbid[2].empty())) plan.read_end.push_back(&u);
+  }
+  auto allowed = [](const VarUse& u, int w, const std::string& v) {
+    return (!u.need[w] || *u.need[w] == v) &&
+           std::find(u.forbid[w].begin(), u.forbid[w].end(), v) == u.forbid[w].end();
+  };
+  for (const VarUse* u : plan.changed) {
+    bool ends = std::count(plan.at_end.begin(), plan.at_end.end(), u);
+    for (const auto& s : g_.variables[VarIndex(u->var)].values) {
+      std::string post = u->eff_start.value_or(s);
+      if (!allowed(*u, 0, s) || (durative && !allowed(*u, 1, post))) continue;
+      if (ends && !allowed(*u, 2, post)) continue;
+      if (!ends && post == kNoValue) continue;
+      plan.sources[u].push_back(s);
+    }
+    if (plan.sources[u].empty()) return std::nullopt;
+  }
+  return plan;
+}
+
+// Guard atoms for what the action reads of a variable it does not change, at start (first 0,
+// last 1) or at its end (2, 2).
+std::vector<std::string> Writer::Reads(const VarUse& u, int first, int last, std::size_t x) {
+  int v = VarIndex(u.var);
+  std::vector<std::string> atoms;
+  std::set<std::string> done;
+  for (int w = first; w <= last; ++w) {
+    if (u.need[w] && done.insert("+" + *u.need[w]).second) atoms.push_back(Accept(v, *u.need[w], "i"));
+    for (const auto& f : u.forbid[w])
+      if (done.insert("-" + f).second) atoms.push_back(Refuse(v, f, "i"));
+  }
+  if (first == 0 && (u.need[1] || !u.forbid[1].empty())) over_all_[x].emplace_back(v, &u);
+  return atoms;
+}
+
+void Writer::WriteAction(std::size_t x) {
+  auto plan = MakePlan(x);
+  if (!plan) return;
+  const GroundAction& ga = g_.actions[x];
+  bool durative = d_.actions[ga.action].durative;
+  auto ends = [&](const VarUse* u) {
+    return std::count(plan->at_end.begin(), plan->at_end.end(), u) > 0;
+  };
+  timing_[x] = durative ? VarIndex(plan->at_end[0]->var) : VarIndex(plan->changed[0]->var);
+  // Start: every changed variable's command and source, every read variable's command and value.
+  std::vector<std::string> start;
+  std::map<const VarUse*, std::string> source_atom;
+  for (const VarUse* u : plan->changed) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    touches_[x].insert(v);
+    std::vector<int> locs;
+    for (const auto& s : plan->sources[u]) locs.push_back(LocOf(v, s, ""));
+    source_atom[u] = InLocs(v, locs, "i");
+  }
+  for (const VarUse* u : plan->read_start) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    start.push_back(automaton_[v] + "u[i]==" + cmd_[x]);
+    for (auto& a : Reads(*u, 0, 1, x)) start.push_back(a);
+  }
+  for (const VarUse* u : plan->changed)
+    if (durative && !ends(u) && (u->need[1] || !u->forbid[1].empty()))
+      over_all_[x].emplace_back(VarIndex(u->var), u);
+  std::map<const VarUse*, std::vector<int>> steps;
+  for (const VarUse* u : plan->changed) {
+    int v = VarIndex(u->var);
+    std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};
+    for (const VarUse* o : plan->changed)
+      if (o != u) {
+        guard.push_back(automaton_[VarIndex(o->var)] + "u[i]==" + cmd_[x]);
+        guard.push_back(source_atom[o]);
+      }
+    guard.insert(guard.end(), start.begin(), start.end());
+    std::set<std::string> posts;
+    for (const auto& s : plan->sources[u]) posts.insert(u->eff_start.value_or(s));
+    for (const auto& s : plan->sources[u]) {
+      std::string post = u->eff_start.value_or(s);
+      std::string step = posts.size() == 1 ? cmd_[x] : cmd_[x] + "_" + ValueName(u->var, post);
+      int to = ends(u) ? LocOf(v, post, step) : LocOf(v, post, "");
+      if (ends(u) && std::find(steps[u].begin(), steps[u].end(), to) == steps[u].end())
+        steps[u].push_back(to);
+      int from = LocOf(v, s, "");
+      if (from == to) continue;
+      int cost = v == timing_[x] ? (durative ? 1 : 2) : 0;
+      trans_.push_back(Trans{v, from, to, guard, std::nullopt, cost, static_cast<int>(x)});
+    }
+  }
+  if (!durative) return;
+  timing_steps_[x] = steps[plan->at_end[0]];
+  // End: every variable with a step leaves it together, the duration after the start.
+  std::vector<std::string> end;
+  for (const VarUse* u : plan->read_end) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    end.push_back(automaton_[v] + "u[i]==" + cmd_[x]);
+    for (auto& a : Reads(*u, 2, 2, x)) end.push_back(a);
+  }
+  for (const VarUse* u : plan->at_end) {
+    int v = VarIndex(u->var);
+    std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};
+    for (const VarUse* o : plan->at_end)
+      if (o != u) {
+        int ov = VarIndex(o->var);
+        guard.push_back(automaton_[ov] + "u[i]==" + cmd_[x]);
+        guard.push_back(InLocs(ov, steps[o], "i"));
+      }
+    guard.insert(guard.end(), end.begin(), end.end());
+    for (int from : steps[u]) {
+      const std::string& post = locs_[v][from].value;
+      int to = LocOf(v, u->eff_end.value_or(post), "");
+      int cost = v == timing_[x] ? 1 : 0;
+      trans_.push_back(Trans{v, from, to, guard, std::make_pair(ga.lo, ga.hi), cost,
+                             static_cast<int>(x)});
+    }
+  }
+}
+
+// A timed initial literal's atom: one location per stretch of time with one value, left
+// automatically at the next literal's time.
+void Writer::Timelines() {
+  for (std::size_t i = 0; i < g_.variables.size(); ++i) {
+    const Variable& var = g_.variables[i];
+    if (var.timeline.empty()) continue;
+    std::string value = *var.initial;
+    double since = 0;
+    locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(var.key, value)), value});
+    for (const auto& [t, v] : var.timeline) {
+      if (v == value) continue;
+      std::string when = Duration(t).dump();
+      std::replace(when.begin(), when.end(), '.', '_');
+      locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(var.key, v) + "_at_" + when), v});
+      int to = static_cast<int>(locs_[i].size()) - 1;
+      trans_.push_back(Trans{static_cast<int>(i), to - 1, to, {},
+                             std::make_pair(t - since, std::optional<double>(t - since)), 0, -1});
+      value = v;
+      since = t;
+    }
+  }
+}
+
+// Over-all conditions hold throughout: while X runs (its timing variable in one of its steps),
+// no other action's transition takes the variable X reads out of the value X needs (or into the
+// value it forbids). Left out where that action changes X's timing variable itself.
+void Writer::Protect() {
+  for (std::size_t x = 0; x < g_.actions.size(); ++x) {
+    if (timing_steps_[x].empty()) continue;
+    int m = timing_[x];
+    std::vector<std::string> idle;
+    for (int k : timing_steps_[x]) idle.push_back(automaton_[m] + "l[i]!=" + locs_[m][k].name);
+    for (const auto& [v, u] : over_all_[x]) {
+      for (auto& t : trans_) {
+        if (t.var != v || t.action < 0 || t.action == static_cast<int>(x)) continue;
+        if (touches_[t.action].count(m)) continue;
+        const std::string& from = locs_[v][t.from].value;
+        const std::string& to = locs_[v][t.to].value;
+        bool breaks = u->need[1] && from == *u->need[1] && to != *u->need[1];
+        for (const auto& f : u->forbid[1]) breaks = breaks || (to == f && from != f);
+        if (breaks) t.guard.insert(t.guard.end(), idle.begin(), idle.end());
+      }
+    }
+  }
+}
+
+Json Writer::Automata() const {
+  std::vector<Json> automata;
+  for (std::size_t i = 0; i < g_.variables.size(); ++i) {
+    Json locations = Json::array();
+    for (const auto& l : locs_[i]) locations.push_back(l.name);
+    automata.push_back({{"name", automaton_[i]},
+                        {"locations", locations},
+                        {"transitions", Json::array()}});
+    if (!commands_[i].empty()) automata.back()["commands"] = commands_[i];
+  }
+  for (const auto& t : trans_) {
+    Json j = {{"from", locs_[t.var][t.from].name}, {"to", locs_[t.var][t.to].name}};
+    if (!t.guard.empty()) j["guard"] = Join(t.guard, " /\\ ");
+    if (t.duration)
+      j["duration"] = {Duration(t.duration->first),
+                       t.duration->second ? Duration(*t.duration->second) : Json()};
+    j["cost"] = t.cost;
+    automata[t.var]["transitions"].push_back(std::move(j));
+  }
+  return automata;
+}
+
+// Every action has ended: no variable in a step location (shorter of the two ways to say it).
+std::string Writer::Unfinished() const {
+  std::vector<std::string> parts;
+  for (std::size_t v = 0; v < locs_.size(); ++v) {
+    std::vector<std::string> in, out;
+    for (const auto& l : locs_[v]) {
+      (l.step ? out : in).push_back(automaton_[v] + "l[i+1]" + (l.step ? "!=" : "==") + l.name);
+    }
+    if (out.empty()) continue;
+    if (out.size() <= in.size() || in.size() <= 1)
+      parts.push_back(in.size() == 1 && out.size() > 1 ? in[0] : Join(out, " /\\ "));
+    else
+      parts.push_back("(" + Join(in, " \\/ ") + ")");
+  }
+  return Join(parts, " /\\ ");
 }
 
 // An automaton is named from its object when the object has no other state variable, and so are
@@ -147,6 +432,7 @@ void Writer::NameAutomata() {
 }
 
 std::string Writer::ValueName(const VarKey& k, const std::string& value) const {
+  if (value == kNoValue) return "none";
   const Group& grp = sv_.groups[k.group];
   if (grp.boolean)
     return value.rfind("not ", 0) == 0 ? Identifier("not_" + value.substr(4)) : Identifier(value);
@@ -155,80 +441,15 @@ std::string Writer::ValueName(const VarKey& k, const std::string& value) const {
   return Identifier(Join(parts, "_"));
 }
 
-void Writer::NameLocations() {
-  location_.resize(g_.variables.size());
-  std::vector<NameSet> used(g_.variables.size());
-  for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    for (const auto& v : g_.variables[i].values)
-      location_[i][v] = used[i].Take(ValueName(g_.variables[i].key, v));
-  std::vector<NameSet> commands(g_.variables.size());
-  for (const auto& ga : g_.actions) {
-    int v = VarIndex(ga.var);
-    var_of_.push_back(v);
-    std::string base =
-        Identifier(d_.actions[ga.action].name + (ga.args.empty() ? "" : "_" + Join(ga.args, "_")));
-    std::string n = base;
-    for (int k = 2; used[v].Has(n) || commands[v].Has(n); ++k) n = base + "_" + std::to_string(k);
-    if (d_.actions[ga.action].durative) used[v].Reserve(n);
-    commands[v].Reserve(n);
-    step_.push_back(n);
-  }
-}
-
-std::string Writer::Atom(int var, const std::string& value, bool equal,
-                         const std::string& index) const {
-  return automaton_[var] + "l[" + index + "]" + (equal ? "==" : "!=") + location_[var].at(value);
-}
-
-// Over-all conditions hold throughout: while X runs (in its timed location), the variable it
-// reads may not leave the value it needs (nor enter the value it forbids).
-void Writer::Protect() {
-  protect_.resize(g_.actions.size());
-  for (std::size_t x = 0; x < g_.actions.size(); ++x) {
-    const GroundAction& ga = g_.actions[x];
-    if (!d_.actions[ga.action].durative) continue;
-    std::string running = automaton_[var_of_[x]] + "l[i]!=" + step_[x];
-    for (const auto& c : ga.conditions) {
-      if (!c.over_all) continue;
-      int v = VarIndex(c.var);
-      for (std::size_t y : Lookup(c.positive ? leaving_ : entering_, v, c.value)) {
-        const GroundAction& gy = g_.actions[y];
-        // Needless when y needs X's variable at a value: X running is at none.
-        bool blocked = false;
-        for (const auto& yc : gy.conditions) blocked = blocked || (yc.positive && yc.var == ga.var);
-        if (!blocked) protect_[y].push_back(running);
-      }
-    }
-  }
-}
-
-std::string Writer::Guard(std::size_t a) const {
-  const GroundAction& ga = g_.actions[a];
-  std::vector<std::string> atoms{automaton_[var_of_[a]] + "u[i]==" + step_[a]};
-  for (const auto& c : ga.conditions) {
-    int v = VarIndex(c.var);
-    atoms.push_back(Atom(v, c.value, c.positive, "i"));
-    if (c.positive || !c.over_all) continue;
-    // Not heading for the forbidden value either: no action on v that ends in it is running.
-    for (std::size_t y : Lookup(entering_, v, c.value))
-      if (d_.actions[g_.actions[y].action].durative)
-        atoms.push_back(automaton_[v] + "l[i]!=" + step_[y]);
-  }
-  for (const auto& p : protect_[a]) atoms.push_back(p);
-  return Join(atoms, " /\\ ");
-}
-
 // The coarsest time resolution (1, 0.1, ..., 0.000001 s) that every duration is a multiple of.
 std::optional<double> Writer::Resolution() {
   for (int k = 0; k <= 6; ++k) {
     double scale = std::pow(10.0, k);
     bool all = true;
-    for (const auto& ga : g_.actions) {
-      for (double v : {ga.lo, ga.hi.value_or(0)}) {
-        double q = v * scale;
-        all = all && std::fabs(q - std::round(q)) < 1e-6;
-      }
-    }
+    auto fits = [&](double v) { return std::fabs(v * scale - std::round(v * scale)) < 1e-6; };
+    for (const auto& ga : g_.actions) all = all && fits(ga.lo) && fits(ga.hi.value_or(0));
+    for (const auto& var : g_.variables)
+      for (const auto& [t, value] : var.timeline) all = all && fits(t);
     if (all) return 1.0 / scale;
   }
   for (const auto& ga : g_.actions) {
@@ -244,42 +465,6 @@ Json Writer::Duration(double v) const {
   double ticks = std::round(v / resolution_);
   if (resolution_ == 1.0) return static_cast<long long>(ticks);
   return ticks * resolution_;
-}
-
-Json Writer::Automata() {
-  std::vector<Json> automata;
-  for (std::size_t i = 0; i < g_.variables.size(); ++i) {
-    Json locations = Json::array();
-    for (const auto& v : g_.variables[i].values) locations.push_back(location_[i].at(v));
-    automata.push_back({{"name", automaton_[i]},
-                        {"locations", locations},
-                        {"commands", Json::array()},
-                        {"transitions", Json::array()}});
-  }
-  for (std::size_t a = 0; a < g_.actions.size(); ++a) {
-    const GroundAction& ga = g_.actions[a];
-    int v = var_of_[a];
-    Json& au = automata[v];
-    const std::string& from = location_[v].at(ga.from);
-    const std::string& to = location_[v].at(ga.to);
-    bool durative = d_.actions[ga.action].durative;
-    if (!durative && from == to) continue;  // an instantaneous action that changes nothing
-    au["commands"].push_back(step_[a]);
-    if (!durative) {
-      au["transitions"].push_back({{"from", from}, {"to", to}, {"guard", Guard(a)}, {"cost", 2}});
-      continue;
-    }
-    au["locations"].push_back(step_[a]);
-    au["transitions"].push_back({{"from", from}, {"to", step_[a]}, {"guard", Guard(a)}});
-    Json t = {{"from", step_[a]},
-              {"to", to},
-              {"duration", {Duration(ga.lo), ga.hi ? Duration(*ga.hi) : Json()}}};
-    if (!ga.hi || *ga.hi != ga.lo) t["controllable"] = true;
-    au["transitions"].push_back(std::move(t));
-  }
-  for (auto& au : automata)
-    if (au["commands"].empty()) au.erase("commands");
-  return automata;
 }
 
 std::optional<std::string> Writer::GoalText(const Goal& goal) {
@@ -329,8 +514,8 @@ std::optional<std::string> Writer::GoalText(const Goal& goal) {
   auto loc = g_.Locate(sv_, a);
   if (!loc) return constant(g_.facts.count(GroundKey(a.pred, a.args)) > 0);
   int v = VarIndex(loc->first);
-  if (v < 0 || !location_[v].count(loc->second)) return constant(false);  // never reached
-  return Atom(v, loc->second, goal.lit.positive, "i+1");
+  if (v < 0) return constant(false);  // never reached
+  return goal.lit.positive ? Accept(v, loc->second, "i+1") : Refuse(v, loc->second, "i+1");
 }
 
 std::optional<Written> Writer::Run() {
@@ -340,13 +525,25 @@ std::optional<Written> Writer::Run() {
                             "object and no state variable has a value"});
     return std::nullopt;
   }
-  Index();
+  for (std::size_t i = 0; i < g_.variables.size(); ++i)
+    var_index_[g_.variables[i].key] = static_cast<int>(i);
   NameAutomata();
-  NameLocations();
-  Protect();
   auto res = Resolution();
   if (!res) return std::nullopt;
   resolution_ = *res;
+  BaseLocations();
+  NameSet commands;
+  for (const auto& ga : g_.actions)
+    cmd_.push_back(commands.Take(Identifier(d_.actions[ga.action].name +
+                                            (ga.args.empty() ? "" : "_" + Join(ga.args, "_")))));
+  std::size_t n = g_.actions.size();
+  timing_.assign(n, -1);
+  timing_steps_.resize(n);
+  over_all_.resize(n);
+  touches_.resize(n);
+  for (std::size_t x = 0; x < n; ++x) WriteAction(x);
+  Timelines();
+  Protect();
   Written w;
   std::string desc = "Imported from the PDDL domain '" + d_.name + "'";
   if (p_) desc += " with the objects of problem '" + p_->name + "'";
@@ -356,9 +553,14 @@ std::optional<Written> Writer::Run() {
   if (!p_) return w;
   Json initial = Json::object();
   for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    initial[automaton_[i]] = location_[i].at(*g_.variables[i].initial);
+    initial[automaton_[i]] = locs_[i][g_.variables[i].timeline.empty()
+                                          ? LocOf(static_cast<int>(i), *g_.variables[i].initial, "")
+                                          : 0]
+                                 .name;
   auto goal = GoalText(*p_->goal);
   if (!goal) return std::nullopt;
+  std::string ended = Unfinished();
+  if (!ended.empty()) *goal = *goal == "true" ? ended : "(" + *goal + ") /\\ " + ended;
   w.state_plan = {{"initial_state", initial},
                   {"end_state", {{"maintenance_constraint", "true"}, {"goal_constraint", *goal}}}};
   if (p_->minimize_total_time) w.state_plan["objective"] = "makespan";
