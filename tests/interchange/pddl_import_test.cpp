@@ -445,3 +445,4 @@ TEST(PddlImportErrors, TooManyGroundActionsIsRefused) {
 
 }  // namespace
 }  // namespace ctb::pddl
+#include "pddl_semantics_test.inc"
