@@ -101,8 +101,14 @@ void Grounder::Objects() {
       if (t != "object" && !d_.type_parents.count(t))
         Fail(file, o.pos, "", "object '" + o.name + "' has the undeclared type '" + t + "'");
     auto [it, fresh] = object_types_.emplace(o.name, o.types);
-    if (!fresh) {
-      if (it->second != o.types) Fail(file, o.pos, "", "object '" + o.name + "' declared twice");
+    if (!fresh) {  // declared again (IPC 2014 TMS: kiln0 - kiln8, kiln0 - kiln20): all its types
+      for (const auto& t : o.types)
+        if (std::find(it->second.begin(), it->second.end(), t) == it->second.end()) {
+          it->second.push_back(t);
+          warnings_.push_back(Issue{
+              file, o.pos.line, o.pos.column, "",
+              "object '" + o.name + "' declared again with type '" + t + "': it has both types"});
+        }
       return;
     }
     object_order_[o.name] = static_cast<int>(g_.objects.size());
@@ -172,9 +178,9 @@ std::optional<double> Grounder::Eval(const NumExpr& e, const Action& a,
 // Records what the binding requires of (need/forbid) or does to a variable; false when two
 // conditions on one variable contradict each other.
 bool Require(VarUse& u, When w, const std::string& value, bool positive, bool boolean) {
-  if (!positive && boolean) return Require(u, w, value.rfind("not ", 0) == 0 ? value.substr(4)
-                                                                              : NotValue(value),
-                                           true, boolean);
+  if (!positive && boolean)
+    return Require(u, w, value.rfind("not ", 0) == 0 ? value.substr(4) : NotValue(value), true,
+                   boolean);
   auto& need = u.need[static_cast<int>(w)];
   if (!positive) {
     if (need == value) return false;
@@ -246,8 +252,7 @@ void Grounder::Complete(std::size_t index, const std::vector<std::string>& bindi
   g_.actions.push_back(std::move(ga));
 }
 
-bool Grounder::Duration(const Action& a,
-                        const std::function<std::string(const std::string&)>& term,
+bool Grounder::Duration(const Action& a, const std::function<std::string(const std::string&)>& term,
                         GroundAction& ga) {
   if (!a.durative) return true;
   bool failed = false;

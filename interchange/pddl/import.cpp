@@ -54,6 +54,7 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
   if (!g) return issues;
   auto w = WriteModel(*d, *sv, *g, p ? &*p : nullptr, options, issues);
   if (!w || !CheckLoads(*w, domain.file, issues)) return issues;
+  out.warnings.insert(out.warnings.end(), w->warnings.begin(), w->warnings.end());
   out.domain = std::move(w->domain);
   out.state_plan = std::move(w->state_plan);
   out.ground_actions = g->actions.size();
