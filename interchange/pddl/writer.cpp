@@ -81,23 +81,39 @@ int Writer::LocOf(int var, const std::string& value, const std::string& step_nam
   return static_cast<int>(locs.size()) - 1;
 }
 
+// Accept and Refuse return a placeholder that Expand writes out once every location exists (an
+// action written later may add step locations that hold the value).
 std::string Writer::Accept(int var, const std::string& value, const std::string& index,
                            bool base_only) const {
-  std::vector<std::string> atoms;
-  for (const auto& l : locs_[var])
-    if (l.value == value && !(base_only && l.step))
-      atoms.push_back(automaton_[var] + "l[" + index + "]==" + l.name);
-  if (atoms.empty()) return "false";
-  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
+  return std::string("\x01") + "+" + (base_only ? "b" : "a") + std::to_string(var) + " " + index +
+         " " + value;
 }
 
 std::string Writer::Refuse(int var, const std::string& value, const std::string& index,
                            bool base_only) const {
-  std::vector<std::string> atoms;
+  return std::string("\x01") + "-" + (base_only ? "b" : "a") + std::to_string(var) + " " + index +
+         " " + value;
+}
+
+// A placeholder as atoms: the locations with the value, or where that is longer, not the others.
+std::string Writer::Expand(const std::string& atom) const {
+  if (atom.empty() || atom[0] != '\x01') return atom;
+  bool accept = atom[1] == '+', base_only = atom[2] == 'b';
+  std::size_t sp1 = atom.find(' '), sp2 = atom.find(' ', sp1 + 1);
+  int var = std::stoi(atom.substr(3, sp1 - 3));
+  std::string index = atom.substr(sp1 + 1, sp2 - sp1 - 1), value = atom.substr(sp2 + 1);
+  std::vector<std::string> in, out;
   for (const auto& l : locs_[var])
-    if (l.value == value && !(base_only && l.step))
-      atoms.push_back(automaton_[var] + "l[" + index + "]!=" + l.name);
-  return atoms.empty() ? "true" : Join(atoms, " /\\ ");
+    (l.value == value && !(base_only && l.step) ? in : out).push_back(l.name);
+  if (in.empty() || out.empty()) return (in.empty() != accept) ? "true" : "false";
+  bool listed = in.size() <= out.size();  // name the locations with the value
+  const auto& names = listed ? in : out;
+  bool equal = listed == accept;
+  std::vector<std::string> atoms;
+  for (const auto& n : names)
+    atoms.push_back(automaton_[var] + "l[" + index + "]" + (equal ? "==" : "!=") + n);
+  if (!equal) return Join(atoms, " /\\ ");
+  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
 }
 
 std::string Writer::InLocs(int var, const std::vector<int>& locs, const std::string& index) const {

@@ -145,7 +145,9 @@ Json Writer::Automata() const {
   }
   for (const auto& t : trans_) {
     Json j = {{"from", locs_[t.var][t.from].name}, {"to", locs_[t.var][t.to].name}};
-    if (!t.guard.empty()) j["guard"] = Join(t.guard, " /\\ ");
+    std::vector<std::string> guard;
+    for (const auto& a : t.guard) guard.push_back(Expand(a));
+    if (!guard.empty()) j["guard"] = Join(guard, " /\\ ");
     if (t.duration)
       j["duration"] = {Duration(t.duration->first),
                        t.duration->second ? Duration(*t.duration->second) : Json()};
@@ -318,8 +320,8 @@ std::optional<std::string> Writer::GoalText(const Goal& goal) {
   int v = VarIndex(loc->first);
   if (v < 0) return constant(false);  // never reached
   // The goal also requires that no action runs, so no automaton is in a step location.
-  return goal.lit.positive ? Accept(v, loc->second, "i+1", true)
-                           : Refuse(v, loc->second, "i+1", true);
+  return Expand(goal.lit.positive ? Accept(v, loc->second, "i+1", true)
+                                  : Refuse(v, loc->second, "i+1", true));
 }
 
 std::optional<Written> Writer::Run() {

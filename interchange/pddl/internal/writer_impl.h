@@ -81,6 +81,7 @@ class Writer {
                      bool base_only = false) const;
   std::string Refuse(int var, const std::string& value, const std::string& index,
                      bool base_only = false) const;
+  std::string Expand(const std::string& atom) const;
   std::string InLocs(int var, const std::vector<int>& locs, const std::string& index) const;
   void Command(int var, std::size_t action);
   std::optional<Plan> MakePlan(std::size_t x);
