@@ -180,6 +180,24 @@ std::vector<std::string> Writer::Reads(const VarUse& u, int first, int last, std
   return atoms;
 }
 
+// The end's check of a timed literal's atom cannot tell two stretches with the value apart: an
+// action running across a change and back is accepted. Said once per atom where that can happen.
+void Writer::WarnRepeatedStretch(const VarUse& u, std::size_t x) {
+  int v = VarIndex(u.var);
+  if (!u.need[1] || !warned_stretch_.insert(v).second) return;
+  int stretches = 0;
+  for (const auto& l : locs_[v]) stretches += l.value == *u.need[1];
+  if (stretches < 2) {
+    warned_stretch_.erase(v);
+    return;
+  }
+  const Action& a = d_.actions[g_.actions[x].action];
+  warnings_.push_back(Issue{d_.file, a.pos.line, a.pos.column, a.name,
+                            "over all on '" + automaton_[v] + "', which timed initial literals " +
+                                "give the value " + std::to_string(stretches) +
+                                " times: checked at the start and the end only"});
+}
+
 void Writer::WriteAction(std::size_t x) {
   auto plan = MakePlan(x);
   if (!plan) return;
@@ -246,8 +264,10 @@ void Writer::WriteAction(std::size_t x) {
   // A timed initial literal's atom read over all: still the value at the end (its transitions are
   // automatic at fixed times and cannot wait for the action).
   for (const VarUse* u : plan->read_start)
-    if (!g_.variables[VarIndex(u->var)].timeline.empty())
+    if (!g_.variables[VarIndex(u->var)].timeline.empty()) {
       for (auto& a : Reads(*u, 1, 1, x)) end.push_back(a);
+      WarnRepeatedStretch(*u, x);
+    }
   for (const VarUse* u : plan->at_end) {
     int v = VarIndex(u->var);
     std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};

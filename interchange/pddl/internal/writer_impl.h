@@ -87,6 +87,7 @@ class Writer {
   std::optional<Plan> MakePlan(std::size_t x);
   std::vector<std::string> Reads(const VarUse& u, int first, int last, std::size_t x);
   void WriteAction(std::size_t x);
+  void WarnRepeatedStretch(const VarUse& u, std::size_t x);
   void Timelines();
   void Protect();
   void WriteProtections();
@@ -124,6 +125,7 @@ class Writer {
   int coarse_ = 0;  // transitions with coarse protections
   double resolution_ = 1;
   std::vector<Issue> warnings_;
+  std::set<int> warned_stretch_;  // timed atoms warned about by WarnRepeatedStretch
 };
 
 }  // namespace ctb::pddl::writer_impl
