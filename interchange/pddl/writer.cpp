@@ -96,7 +96,10 @@ std::string Writer::Refuse(int var, const std::string& value, const std::string&
 }
 
 // A placeholder as atoms: the locations with the value, or where that is longer, not the others.
-std::string Writer::Expand(const std::string& atom) const {
+// Where both lists are longer than kListedReads, a guard's read asks for the automaton at rest
+// (in a base location) with the value, or with another value for a refusal: stricter than PDDL
+// (counted in coarse_reads_).
+std::string Writer::Expand(const std::string& atom) {
   if (atom.empty() || atom[0] != '\x01') return atom;
   bool accept = atom[1] == '+', base_only = atom[2] == 'b';
   std::size_t sp1 = atom.find(' '), sp2 = atom.find(' ', sp1 + 1);
@@ -106,7 +109,17 @@ std::string Writer::Expand(const std::string& atom) const {
   for (const auto& l : locs_[var])
     (l.value == value && !(base_only && l.step) ? in : out).push_back(l.name);
   if (in.empty() || out.empty()) return (in.empty() != accept) ? "true" : "false";
-  bool listed = in.size() <= out.size();  // name the locations with the value
+  if (std::min(in.size(), out.size()) > kListedReads) {
+    ++coarse_reads_;
+    std::vector<std::string> at_rest;
+    for (const auto& l : locs_[var])
+      if (!l.step && (l.value == value) == accept) at_rest.push_back(l.name);
+    in = at_rest;
+    out.clear();
+    accept = true;
+    if (in.empty()) return "false";
+  }
+  bool listed = out.empty() || in.size() <= out.size();  // name the locations with the value
   const auto& names = listed ? in : out;
   bool equal = listed == accept;
   std::vector<std::string> atoms;

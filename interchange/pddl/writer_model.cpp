@@ -134,7 +134,7 @@ void Writer::AddRun(int m) {
   }
 }
 
-Json Writer::Automata() const {
+Json Writer::Automata() {
   std::vector<Json> automata;
   for (std::size_t i = 0; i < automaton_.size(); ++i) {
     Json locations = Json::array();
@@ -366,6 +366,11 @@ std::optional<Written> Writer::Run() {
   w.domain = {{"name", o_.name.empty() ? Identifier(d_.name) : o_.name}, {"description", desc}};
   if (resolution_ != 1.0) w.domain["time_resolution"] = resolution_;
   w.domain["automata"] = Automata();
+  if (coarse_reads_ > 0)
+    warnings_.push_back(Issue{d_.file, 0, 0, "",
+                              std::to_string(coarse_reads_) +
+                                  " guard read(s) of a value held in too many locations to list "
+                                  "ask for the automaton at rest (no action of its own running)"});
   w.warnings = warnings_;
   if (!p_) return w;
   Json initial = Json::object();

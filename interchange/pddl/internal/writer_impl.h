@@ -44,6 +44,8 @@ class Writer {
  private:
   // Beyond this many characters a transition's over-all protection is written coarsely.
   static constexpr std::size_t kExactProtection = 3000;
+  // Beyond this many atoms (either way) a read is written coarsely (Expand).
+  static constexpr std::size_t kListedReads = 24;
   // The expression language's limit (contract section 4).
   static constexpr std::size_t kMaxExpressionChars = kMaxExprLength;
 
@@ -81,7 +83,7 @@ class Writer {
                      bool base_only = false) const;
   std::string Refuse(int var, const std::string& value, const std::string& index,
                      bool base_only = false) const;
-  std::string Expand(const std::string& atom) const;
+  std::string Expand(const std::string& atom);
   std::string InLocs(int var, const std::vector<int>& locs, const std::string& index) const;
   void Command(int var, std::size_t action);
   std::optional<Plan> MakePlan(std::size_t x);
@@ -96,7 +98,7 @@ class Writer {
   void RunTransitions(int m);
   double Resolution();
   Json Duration(double v) const;
-  Json Automata() const;
+  Json Automata();
   std::string Unfinished(std::size_t budget);
   std::optional<std::string> GoalText(const Goal& goal);
 
@@ -122,7 +124,8 @@ class Writer {
                           // times an action), -1
   std::vector<std::map<int, std::set<int>>> protect_;  // per transition: timing automaton -> steps
   NameSet automaton_names_;
-  int coarse_ = 0;  // transitions with coarse protections
+  int coarse_ = 0;        // transitions with coarse protections
+  int coarse_reads_ = 0;  // reads written as "at rest with the value" (Expand)
   double resolution_ = 1;
   std::vector<Issue> warnings_;
   std::set<int> warned_stretch_;  // timed atoms warned about by WarnRepeatedStretch
