@@ -74,7 +74,7 @@ def one(folder, k, limit, tmp):
         r["first_plan_ms"] = (t.get("stats") or {}).get("first_solution_ms")
     except ValueError:
         r["status"] = "error"
-        r["error"] = (err.strip().splitlines() or ["?"])[0][:300]
+        r["error"] = " ".join(err.strip().splitlines()[:2] or ["?"])[:300]
     return r
 
 
