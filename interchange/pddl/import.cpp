@@ -55,6 +55,7 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
   auto w = WriteModel(*d, *sv, *g, p ? &*p : nullptr, options, issues);
   if (!w || !CheckLoads(*w, domain.file, issues)) return issues;
   out.warnings.insert(out.warnings.end(), w->warnings.begin(), w->warnings.end());
+  out.actions = std::move(w->actions);
   out.domain = std::move(w->domain);
   out.state_plan = std::move(w->state_plan);
   out.ground_actions = g->actions.size();

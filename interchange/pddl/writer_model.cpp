@@ -372,6 +372,14 @@ std::optional<Written> Writer::Run() {
                                   " guard read(s) of a value held in too many locations to list "
                                   "ask for the automaton at rest (no action of its own running)"});
   w.warnings = warnings_;
+  for (std::size_t x = 0; x < g_.actions.size(); ++x) {
+    if (timing_[x] < 0) continue;  // never applicable: not in the model
+    const GroundAction& ga = g_.actions[x];
+    std::string pddl = "(" + d_.actions[ga.action].name;
+    for (const auto& a : ga.args) pddl += " " + a;
+    w.actions.push_back(
+        PlanAction{cmd_[x], automaton_[timing_[x]], pddl + ")", !timing_steps_[x].empty()});
+  }
   if (!p_) return w;
   Json initial = Json::object();
   for (std::size_t i = 0; i < g_.variables.size(); ++i)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Black-box test of `ctburton domain import-pddl` (docs/domains.md, "Importing PDDL"): the PDDL
 # search_rescue imported with its problem, checked by `domain check`, solved by `solve` to the
-# shipped domain's optimum; a domain without a problem; an unsupported action refused with its
-# name and line; bad usage.
+# shipped domain's optimum and written back with `solve --pddl-plan`; a domain without a problem;
+# an action changing two state variables; bad usage.
 set -u
 BIN=$1
 SRC=$2
@@ -34,6 +34,27 @@ ends = {tr["automaton"]: tr["to"] for tr in t["transitions"] if tr["automaton"].
 assert sorted([ends["robot1"], ends["robot2"]]) == ["person1", "person2"], ends
 PY
 then ok "solve: optimal makespan 11"; else bad "solve (rc=$rc)"; fi
+
+# The same solve written back as a PDDL 2.1 plan: 11 s, one robot opening door 1, both through it.
+"$BIN" solve --domain "$T/sr.json" "$T/plan.json" --pddl $P/search_rescue_domain.pddl \
+  $P/search_rescue_problem.pddl --pddl-plan "$T/out.plan" > /dev/null; rc=$?
+if [ $rc = 0 ] && python3 - "$T/out.plan" <<'PY'
+import re, sys
+lines = open(sys.argv[1]).read().splitlines()
+acts = [re.fullmatch(r"(\d+\.\d{3}): \(([a-z0-9 -]+)\)( \[(\d+\.\d{3})\])?", l) for l in lines]
+assert all(acts), lines
+names = [a.group(2).split()[0] for a in acts]
+assert names.count("open-door") == 1 and names.count("pass") == 2, lines
+ends = [float(a.group(1)) + float(a.group(4) or 0) for a in acts]
+assert max(ends) == 11.0, lines
+times = [float(a.group(1)) for a in acts]
+assert times == sorted(times), lines
+assert any(l.startswith("0.000: (drive robot") and l.endswith("[1.000]") for l in lines), lines
+PY
+then ok "solve --pddl-plan: a PDDL 2.1 plan ending at 11 s"; else bad "--pddl-plan (rc=$rc) $(cat "$T/out.plan")"; fi
+
+"$BIN" solve --domain "$T/sr.json" "$T/plan.json" --pddl-plan "$T/x.plan" >/dev/null 2>&1; rc=$?
+[ $rc != 0 ] && [ ! -e "$T/x.plan" ] && ok "--pddl-plan needs --pddl" || bad "--pddl-plan alone (rc=$rc)"
 
 "$BIN" domain import-pddl $P/presentation_domain.pddl > "$T/pres.json" 2>"$T/err"; rc=$?
 if [ $rc = 0 ] && python3 - "$T/pres.json" <<'PY'

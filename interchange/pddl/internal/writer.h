@@ -12,6 +12,7 @@ struct Written {
   Json domain;
   Json state_plan;              // null without a problem
   std::vector<Issue> warnings;  // what was approximated (durations rounded)
+  std::vector<PlanAction> actions;
 };
 
 // On error (a goal on an unknown object, nothing to import) nullopt with the issue appended.
