@@ -3,78 +3,12 @@
 // domain from its constants, and one located error, naming the action, per unsupported feature.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
-#include "interchange/pddl/import.h"
-#include "planner/model/domain.h"
-#include "planner/model/state_plan.h"
-#include "planner/solve/solve.h"
+#include "tests/interchange/pddl_test_util.h"
 
 namespace ctb::pddl {
 namespace {
 
-std::string SourceDir() { return CTB_TEST_SOURCE_DIR; }
-
-Source Fixture(const std::string& name) {
-  std::string path = SourceDir() + "/tests/interchange/pddl/" + name;
-  std::ifstream f(path);
-  std::ostringstream s;
-  s << f.rdbuf();
-  EXPECT_FALSE(s.str().empty()) << path;
-  return Source{name, s.str()};
-}
-
-std::string Issues(const std::vector<Issue>& issues) {
-  std::string s;
-  for (const auto& i : issues) s += i.ToString() + "\n";
-  return s;
-}
-
-Imported MustImport(const Source& d, const std::optional<Source>& p) {
-  auto r = ImportPddl(d, p);
-  if (auto* e = std::get_if<std::vector<Issue>>(&r)) {
-    ADD_FAILURE() << Issues(*e);
-    return Imported{};
-  }
-  return std::get<Imported>(r);
-}
-
-std::vector<Issue> MustFail(const Source& d, const std::optional<Source>& p = std::nullopt) {
-  auto r = ImportPddl(d, p);
-  if (auto* e = std::get_if<std::vector<Issue>>(&r)) return *e;
-  ADD_FAILURE() << "imported although it should not:\n" << std::get<Imported>(r).domain.dump(2);
-  return {};
-}
-
-const Json* FindAutomaton(const Json& domain, const std::string& name) {
-  for (const auto& a : domain["automata"])
-    if (a["name"] == name) return &a;
-  return nullptr;
-}
-
-const Json* FindTransition(const Json& automaton, const std::string& from, const std::string& to) {
-  for (const auto& t : automaton["transitions"])
-    if (t["from"] == from && t["to"] == to) return &t;
-  return nullptr;
-}
-
-Json SolveImported(const Json& domain_json, const Json& plan_json, SolveOptions o = {}) {
-  Diagnostics d;
-  auto dom = LoadDomain(domain_json, d);
-  EXPECT_TRUE(dom) << (d.errors().empty() ? "" : d.errors()[0].ToString());
-  if (!dom) return Json();
-  auto sp = LoadStatePlan(plan_json, *dom, d);
-  EXPECT_TRUE(sp) << (d.errors().empty() ? "" : d.errors()[0].ToString());
-  if (!sp) return Json();
-  o.time_limit_ms = 120000;
-  auto r = Solve(*dom, *sp, o);
-  if (auto* e = std::get_if<Error>(&r)) {
-    ADD_FAILURE() << e->ToString();
-    return Json();
-  }
-  return std::get<Json>(r);
-}
+using namespace ::ctb::pddl::testing;  // NOLINT: the helpers of these tests
 
 // One automaton per state variable; a durative action is a commanded start into its step location
 // and a commanded end its duration later; an instantaneous one a single commanded transition.
@@ -556,4 +490,3 @@ TEST(PddlImportErrors, TooManyGroundActionsIsRefused) {
 
 }  // namespace
 }  // namespace ctb::pddl
-#include "pddl_semantics_test.inc"

@@ -1,22 +1,30 @@
-// Included by pddl_import_test.cpp (whose helpers it uses; the pddl_tests executable stays one
-// source). Small hand-written PDDL domains in the style of the IPC failures
-// of issue 32 (an action changing two objects, durations from functions, a timed initial
-// literal, a delete without a matching precondition), each imported, solved with the real
-// minizinc to the optimum derived by hand, and compared with a direct PDDL 2.1 simulator.
+// Small hand-written PDDL domains in the style of the IPC failures of issue 32 (an action changing
+// two objects, durations from functions, a timed initial literal, a delete without a matching
+// precondition), each imported, solved with the real minizinc to the optimum derived by hand, and
+// compared with a direct PDDL 2.1 simulator; the plan written out as PDDL 2.1 (PddlPlan) is
+// replayed by the simulator, which must accept it.
 //
 // The simulator (PddlSim) grounds the PDDL by itself (every binding by type) and searches the
 // happenings exhaustively on integer times: one snap action (start or end) per happening,
-// happenings at one time point ordered (PDDL 2.1 with epsilon taken to 0, which is how
-// ctburton's events share a time), at-start conditions on the state before the start,
-// over-all conditions on every state from just after the start to just before the end, at-end
-// conditions before the end, ends exactly the duration after the start, a timed initial literal
-// applied when time reaches it, no action overlapping itself, and the goal with nothing running.
-// Starts happen at time 0, at an end or at a timed initial literal (waiting elsewhere never
-// helps in these domains). It answers the least makespan, or -1 when no plan ends by `bound`.
+// happenings at one time point ordered (PDDL 2.1 with epsilon taken to 0, which is how ctburton's
+// events share a time), at-start conditions on the state before the start, over-all conditions on
+// every state from just after the start to just before the end, at-end conditions before the end,
+// ends exactly the duration after the start, a timed initial literal applied when time reaches it,
+// no action overlapping itself, and the goal with nothing running. Starts happen at time 0, at an
+// end or at a timed initial literal (waiting elsewhere never helps in these domains). It answers
+// the least makespan, or -1 when no plan ends by `bound`.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
 #include <queue>
+#include <regex>
 #include <set>
+#include <sstream>
 
 #include "interchange/pddl/internal/pddl_ast.h"
+#include "interchange/pddl/internal/sexpr.h"
+#include "tests/interchange/pddl_test_util.h"
 
 namespace sim {
 
@@ -32,6 +40,7 @@ struct Snap {
   std::vector<std::pair<std::string, bool>> eff_start, eff_end;
   int duration = 0;
   bool durative = true;
+  std::string name;  // "(action arg...)"
 };
 
 struct Node {
@@ -53,8 +62,7 @@ class PddlSim {
   int MinMakespan(int bound) const {
     Node start;
     for (const auto& a : p_.init) start.atoms.insert(GroundKey(a.pred, a.args));
-    std::priority_queue<std::pair<int, Node>, std::vector<std::pair<int, Node>>,
-                        std::greater<>>
+    std::priority_queue<std::pair<int, Node>, std::vector<std::pair<int, Node>>, std::greater<>>
         open;
     std::set<Node> seen;
     open.push({0, start});
@@ -103,6 +111,9 @@ class PddlSim {
         return GroundKey(x.pred, args);
       };
       Snap s;
+      s.name = "(" + a.name;
+      for (const auto& o : b) s.name += " " + o;
+      s.name += ")";
       for (const auto& c : a.conditions) {
         auto lit = std::make_pair(key(c.lit.atom), c.lit.positive);
         (c.when == When::kStart ? s.pre : c.when == When::kOverAll ? s.inv : s.post).push_back(lit);
@@ -220,23 +231,106 @@ class PddlSim {
   const DomainAst& d_;
   const ProblemAst& p_;
   std::vector<Snap> snaps_;
+
+ public:
+  // Replays a PDDL plan ("T: (action args) [D]" lines) with the search's rules: at each time the
+  // timed literals due, then the ends due, then the starts in the file's order; after each, every
+  // running action's over-all conditions. "" when valid and every action has ended with the goal
+  // true, else why not.
+  std::string Replay(const std::string& plan) const {
+    struct Step {
+      double time = 0, duration = 0;
+      int snap = -1;
+    };
+    std::vector<Step> steps;
+    std::istringstream in(plan);
+    static const std::regex kLine(R"((\d+\.\d+): (\([^)]*\))( \[(\d+\.\d+)\])?)");
+    for (std::string line; std::getline(in, line);) {
+      std::smatch m;
+      if (!std::regex_match(line, m, kLine)) return "bad line: " + line;
+      Step st{std::stod(m[1]), m[4].matched ? std::stod(m[4]) : 0.0, -1};
+      for (int k = 0; k < static_cast<int>(snaps_.size()); ++k)
+        if (snaps_[k].name == m[2].str()) st.snap = k;
+      if (st.snap < 0) return "unknown action " + m[2].str();
+      if (std::fabs(st.duration - snaps_[st.snap].duration) > 1e-6) return "duration: " + line;
+      steps.push_back(st);
+    }
+    std::set<double> times;
+    for (const auto& st : steps) times.insert({st.time, st.time + st.duration});
+    for (const auto& t : p_.tils) times.insert(t.time);
+    std::set<std::string> atoms;
+    for (const auto& a : p_.init) atoms.insert(GroundKey(a.pred, a.args));
+    std::vector<std::pair<double, int>> running;  // (end, snap)
+    auto invariants = [&] {
+      for (const auto& [end, s] : running)
+        if (!Lits(snaps_[s].inv, atoms)) return false;
+      return true;
+    };
+    for (double t : times) {
+      for (const auto& l : p_.tils)
+        if (std::fabs(l.time - t) < 1e-9)
+          Apply({{GroundKey(l.lit.atom.pred, l.lit.atom.args), l.lit.positive}}, atoms);
+      if (!invariants()) return "an over-all condition fails at " + std::to_string(t);
+      for (auto it = running.begin(); it != running.end();) {
+        if (std::fabs(it->first - t) > 1e-9) {
+          ++it;
+          continue;
+        }
+        if (!Lits(snaps_[it->second].post, atoms))
+          return "at-end condition of " + snaps_[it->second].name;
+        Apply(snaps_[it->second].eff_end, atoms);
+        it = running.erase(it);
+        if (!invariants()) return "an over-all condition fails at " + std::to_string(t);
+      }
+      for (const auto& st : steps) {
+        if (std::fabs(st.time - t) > 1e-9) continue;
+        const Snap& s = snaps_[st.snap];
+        if (!Lits(s.pre, atoms)) return "at-start condition of " + s.name;
+        for (const auto& r : running)
+          if (r.second == st.snap) return s.name + " overlaps itself";
+        Apply(s.eff_start, atoms);
+        if (s.durative) running.emplace_back(t + st.duration, st.snap);
+        if (!invariants()) return "an over-all condition fails at " + std::to_string(t);
+      }
+    }
+    if (!running.empty()) return "an action has not ended";
+    return Holds(*p_.goal, atoms) ? "" : "the goal does not hold";
+  }
 };
 
-int Simulate(const std::string& domain, const std::string& problem, int bound) {
+std::optional<PddlSim> Make(const std::string& domain, const std::string& problem,
+                            std::optional<DomainAst>& d, std::optional<ProblemAst>& p) {
   std::vector<::ctb::pddl::Issue> issues;
   auto de = ::ctb::pddl::ReadSExpr(domain, "d", issues);
   auto pe = ::ctb::pddl::ReadSExpr(problem, "p", issues);
-  auto d = ::ctb::pddl::ReadDomain(*de, "d", issues);
-  auto p = ::ctb::pddl::ReadProblem(*pe, "p", issues);
+  d = ::ctb::pddl::ReadDomain(*de, "d", issues);
+  p = ::ctb::pddl::ReadProblem(*pe, "p", issues);
   EXPECT_TRUE(issues.empty()) << issues[0].ToString();
-  if (!d || !p) return -2;
-  return PddlSim(*d, *p).MinMakespan(bound);
+  if (!d || !p) return std::nullopt;
+  return PddlSim(*d, *p);
+}
+
+// "" when the simulator accepts the PDDL plan, else why not.
+std::string Replay(const std::string& domain, const std::string& problem, const std::string& plan) {
+  std::optional<DomainAst> d;
+  std::optional<ProblemAst> p;
+  auto s = Make(domain, problem, d, p);
+  return s ? s->Replay(plan) : "the PDDL does not read";
+}
+
+int Simulate(const std::string& domain, const std::string& problem, int bound) {
+  std::optional<DomainAst> d;
+  std::optional<ProblemAst> p;
+  auto s = Make(domain, problem, d, p);
+  return s ? s->MinMakespan(bound) : -2;
 }
 
 }  // namespace sim
 
 namespace ctb::pddl {
 namespace {
+
+using namespace ::ctb::pddl::testing;  // NOLINT: the helpers of these tests
 
 // A robot drops a ball: the ball is no longer carried and is now in the room (one action, two
 // objects: the ball's variable and the robot's free hand).
@@ -343,6 +437,9 @@ void ExpectOptimum(const std::string& domain, const std::string& problem, int by
   EXPECT_EQ(t["status"], "optimal");
   EXPECT_EQ(t["verified"], true);
   EXPECT_EQ(t["objective"]["value"], by_hand) << t.dump(1);
+  // The plan written out as PDDL 2.1 is one the simulator accepts.
+  std::string plan = PddlPlan(t, im.actions);
+  EXPECT_EQ(sim::Replay(domain, problem, plan), "") << plan;
 }
 
 TEST(PddlCompile, OneActionChangesTwoObjects) { ExpectOptimum(kBallDomain, kBallProblem, 6); }
@@ -363,8 +460,8 @@ TEST(PddlCompile, DropMovesTheBallAndFreesTheHandAtOneEvent) {
 
 TEST(PddlCompile, DurationsFromStaticFunctions) { ExpectOptimum(kDriveDomain, kDriveProblem, 7); }
 
-// The door's timed initial literal: its automaton's locations are made before the actions that
-// read it are written (they were not, and the pass's guard read 'false').
+// The door's timed initial literal: its automaton's locations are made before the actions that read
+// it are written (they were not, and the pass's guard read 'false').
 TEST(PddlCompile, TimedInitialLiteralOpensTheDoor) {
   // Closed until 2: through it 2-5 beats around it (8).
   ExpectOptimum(kDoorDomain, DoorProblem("(at 2 (open))"), 5);
@@ -383,11 +480,16 @@ TEST(PddlCompile, TimedInitialLiteralClosesTheDoor) {
 
 // Plans out as PDDL 2.1: each action at its start with its duration, in time order.
 TEST(PddlPlanOut, TheDoorAndTheBallAsPddlPlans) {
-  Imported door = MustImport(Source{"d.pddl", kDoorDomain},
-                             Source{"p.pddl", DoorProblem("(at 2 (open))")});
+  Imported door =
+      MustImport(Source{"d.pddl", kDoorDomain}, Source{"p.pddl", DoorProblem("(at 2 (open))")});
   Json t = SolveImported(door.domain, door.state_plan);
   ASSERT_EQ(t["status"], "optimal");
   EXPECT_EQ(PddlPlan(t, door.actions), "2.000: (pass r1 a b) [3.000]\n");
+  // The replay rejects what PDDL 2.1 rejects: the door still closed, an end missing.
+  std::string problem = DoorProblem("(at 2 (open))");
+  EXPECT_EQ(sim::Replay(kDoorDomain, problem, "2.000: (pass r1 a b) [3.000]\n"), "");
+  EXPECT_NE(sim::Replay(kDoorDomain, problem, "0.000: (pass r1 a b) [3.000]\n"), "");
+  EXPECT_NE(sim::Replay(kDoorDomain, problem, "0.000: (walk r1 a c) [4.000]\n"), "");
   Imported ball = MustImport(Source{"d.pddl", kBallDomain}, Source{"p.pddl", kBallProblem});
   t = SolveImported(ball.domain, ball.state_plan);
   ASSERT_EQ(t["status"], "optimal");
