@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <set>
 
 namespace ctb::pddl {
 
@@ -280,33 +281,72 @@ bool Grounder::Duration(const Action& a, const std::function<std::string(const s
   return true;
 }
 
+// The order in which to bind an action's parameters: each time the one that completes the most
+// conditions (fewest candidates on a tie), so that static relations prune early (sokoban's
+// push-to-goal binds the direction, then positions adjacent in it, not every triple of places).
+std::vector<std::size_t> BindingOrder(const std::vector<std::set<std::size_t>>& conds,
+                                      const std::vector<std::vector<std::string>>& candidates) {
+  std::size_t n = candidates.size();
+  std::vector<std::size_t> order;
+  std::vector<bool> placed(n, false);
+  for (std::size_t step = 0; step < n; ++step) {
+    std::size_t best = n;
+    std::pair<int, std::size_t> best_score{-1, 0};
+    for (std::size_t p = 0; p < n; ++p) {
+      if (placed[p]) continue;
+      int completes = 0;
+      for (const auto& c : conds) {
+        bool all = c.count(p) > 0;
+        for (std::size_t q : c) all = all && (q == p || placed[q]);
+        completes += all;
+      }
+      std::pair<int, std::size_t> score{completes, ~candidates[p].size()};
+      if (best == n || score > best_score) best = p, best_score = score;
+    }
+    placed[best] = true;
+    order.push_back(best);
+  }
+  return order;
+}
+
 // Every binding of the action's parameters (by type) whose static, equality and (relaxed: the
 // reachable atoms) positive fluent conditions hold, each checked as soon as its last parameter
-// is bound; `found` gets each.
+// is bound (in BindingOrder); `found` gets each.
 void Grounder::Bind(std::size_t index, std::vector<std::vector<std::string>>& found) {
   const Action& a = d_.actions[index];
   std::size_t n = a.params.size();
+  steps_ = 0;  // the limit is per action and pass
   std::vector<std::vector<std::string>> candidates(n);
   for (std::size_t i = 0; i < n; ++i)
     for (const auto& o : g_.objects)
       if (IsA(o, a.params[i].types)) candidates[i].push_back(o);
-  std::vector<std::vector<const Literal*>> checks(n + 1);
+  std::vector<const Literal*> lits;
+  std::vector<std::set<std::size_t>> params_of;
   for (const auto& tc : a.conditions) {
     const Atom& x = tc.lit.atom;
     bool fluent = !x.equality && sv_.IsFluent(x.pred);
     if (fluent && !tc.lit.positive) continue;  // relaxed: negative fluent conditions ignored
-    std::size_t last = 0;
+    std::set<std::size_t> ps;
     for (const auto& t : x.args)
       for (std::size_t i = 0; i < n; ++i)
-        if (a.params[i].name == t) last = std::max(last, i + 1);
-    checks[last].push_back(&tc.lit);
+        if (a.params[i].name == t) ps.insert(i);
+    lits.push_back(&tc.lit);
+    params_of.push_back(ps);
+  }
+  std::vector<std::size_t> order = BindingOrder(params_of, candidates), position(n);
+  for (std::size_t k = 0; k < n; ++k) position[order[k]] = k;
+  std::vector<std::vector<const Literal*>> checks(n + 1);
+  for (std::size_t c = 0; c < lits.size(); ++c) {
+    std::size_t last = 0;
+    for (std::size_t i : params_of[c]) last = std::max(last, position[i] + 1);
+    checks[last].push_back(lits[c]);
   }
   std::vector<std::string> binding(n);
-  auto holds = [&](const Literal* l, std::size_t bound) {
+  auto holds = [&](const Literal* l) {
     std::vector<std::string> args;
     for (const auto& t : l->atom.args) {
       std::string v = t;
-      for (std::size_t i = 0; i < bound; ++i)
+      for (std::size_t i = 0; i < n; ++i)
         if (a.params[i].name == t) v = binding[i];
       args.push_back(v);
     }
@@ -325,15 +365,23 @@ void Grounder::Bind(std::size_t index, std::vector<std::vector<std::string>>& fo
       return;
     }
     for (const Literal* l : checks[k])
-      if (!holds(l, k)) return;
+      if (!holds(l)) return;
     if (k == n) return found.push_back(binding);
-    for (const auto& o : candidates[k]) {
-      binding[k] = o;
+    for (const auto& o : candidates[order[k]]) {
+      binding[order[k]] = o;
       walk(k + 1);
       if (too_many_) return;
     }
   };
   walk(0);
+  // In the order of the parameters and the objects (as if bound left to right).
+  auto rank = [&](const std::vector<std::string>& b) {
+    std::vector<int> r;
+    for (const auto& o : b) r.push_back(object_order_.at(o));
+    return r;
+  };
+  std::sort(found.begin(), found.end(),
+            [&](const auto& x, const auto& y) { return rank(x) < rank(y); });
 }
 
 void Grounder::Variables() {
