@@ -1,10 +1,13 @@
+#include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "client/commands.h"
 #include "client/remote.h"
 #include "client/local_core.h"
+#include "interchange/pddl/import.h"
 #include "planner/model/catalog.h"
 #include "planner/solve/solve.h"
 
@@ -25,7 +28,36 @@ struct SolveCliOptions {
   long first_plan_ms = -1;
   std::string model_out;
   std::string server;
+  std::string pddl_plan;                 // write the plan here as PDDL 2.1
+  std::vector<std::string> pddl_files;  // the PDDL domain (and problem) the model came from
 };
+
+// --pddl-plan: imports the PDDL again (the same names as `domain import-pddl` gave) and writes the
+// trajectory as a PDDL 2.1 plan. False (with the reason on stderr) when that cannot be done.
+bool WritePddlPlan(const SolveCliOptions& o, const Json& trajectory) {
+  std::vector<pddl::Source> sources;
+  for (const auto& f : o.pddl_files) {
+    std::ifstream in(f);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) {
+      std::cerr << "error: cannot read " << f << "\n";
+      return false;
+    }
+    sources.push_back(pddl::Source{f, text.str()});
+  }
+  std::optional<pddl::Source> problem;
+  if (sources.size() > 1) problem = sources[1];
+  auto r = pddl::ImportPddl(sources[0], problem);
+  if (auto* issues = std::get_if<std::vector<pddl::Issue>>(&r)) {
+    std::cerr << "error: --pddl: " << (issues->empty() ? "" : (*issues)[0].ToString()) << "\n";
+    return false;
+  }
+  std::ofstream out(o.pddl_plan);
+  out << pddl::PddlPlan(trajectory, std::get<pddl::Imported>(r).actions);
+  if (!out) std::cerr << "error: cannot write " << o.pddl_plan << "\n";
+  return static_cast<bool>(out);
+}
 
 // --server: POST /solve with the domain's name (or the file as action_model) and the plan.
 int RunRemoteSolve(const SolveCliOptions& o) {
@@ -114,7 +146,9 @@ int RunSolve(const SolveCliOptions& o) {
     PrintError(RelativeTo(*e, "/state_plan"));
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
-  std::cout << std::get<app::Answer>(result).document.dump(2) << "\n";
+  const Json& answer = std::get<app::Answer>(result).document;
+  std::cout << answer.dump(2) << "\n";
+  if (!o.pddl_plan.empty() && !WritePddlPlan(o, answer)) return 3;
   return 0;
 }
 }  // namespace
@@ -148,6 +182,13 @@ Runner AddSolve(CLI::App& app) {
                   "Budget of the first-plan engine (-1 automatic, 0 off)")
       ->check(CLI::Range(-1L, 3600L * 1000));
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
+  auto* pddl = sub->add_option("--pddl", o->pddl_files,
+                               "The PDDL domain and problem the model was imported from")
+                   ->expected(1, 2)
+                   ->check(CLI::ExistingFile);
+  sub->add_option("--pddl-plan", o->pddl_plan,
+                  "Write the trajectory as a PDDL 2.1 plan (time: (action args) [duration])")
+      ->needs(pddl);
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
   sub->add_option("--server", o->server, "Solve on a running ctburton server, e.g. http://127.0.0.1:8080");
   return [o, sub]() { return sub->parsed() ? RunSolve(*o) : -1; };

@@ -48,12 +48,14 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
                 "the problem is for domain '" + p->domain_name + "', not '" + d->name + "'"});
   }
   if (!d || (problem && !p)) return issues;
-  auto sv = AnalyzeStateVars(*d, issues, out.warnings);
+  auto sv = AnalyzeStateVars(*d, p ? &*p : nullptr, issues, out.warnings);
   if (!sv) return issues;
   auto g = Ground(*d, *sv, p ? &*p : nullptr, options, issues, out.warnings);
   if (!g) return issues;
   auto w = WriteModel(*d, *sv, *g, p ? &*p : nullptr, options, issues);
   if (!w || !CheckLoads(*w, domain.file, issues)) return issues;
+  out.warnings.insert(out.warnings.end(), w->warnings.begin(), w->warnings.end());
+  out.actions = std::move(w->actions);
   out.domain = std::move(w->domain);
   out.state_plan = std::move(w->state_plan);
   out.ground_actions = g->actions.size();

@@ -1,13 +1,14 @@
-// Import of PDDL 2.1 temporal domains into ctburton action models (docs/domains.md, "Importing
-// PDDL"; contract section 2 for the output).
+// Import of PDDL 2.1 temporal domains into ctburton action models (docs/pddl.md; contract section
+// 2 for the output).
 //
-// A domain whose fluents group into mutually exclusive state variables (per object, the
-// predicates that an action deletes one of and adds another of) becomes one automaton per state
-// variable, its values the locations. A durative action that moves one variable from a to b
-// becomes a commanded transition a -> "<action>_<args>" (a timed location) and an automatic one
-// to b after the action's duration; its other at-start and over-all conditions become guards.
-// What cannot be mapped (an action changing two variables, numeric fluents, disjunctive or
-// at-end conditions, ...) is an Issue naming the action and the line, never a silent drop.
+// Fluents group into state variables (per owner, the predicates that actions move between; every
+// other changed atom a true/false variable), one automaton each. A ground durative action is a
+// command that every automaton it changes or reads takes at its start: the automata it changes at
+// its start move then, those it changes at its end enter a step location and leave it together
+// its duration later; over-all conditions are guards at the start and protections on other
+// actions' transitions; the goal also asks that no action still runs. What cannot be mapped
+// (numeric fluents, disjunctive conditions, conditional effects, ...) is an Issue naming the
+// action and the line, never a silent drop; what is approximated is a warning.
 //
 // Never throws. Thread-safe: calls share nothing.
 #pragma once
@@ -46,11 +47,21 @@ struct ImportOptions {
   std::size_t max_ground_actions = 20000;  // beyond this the import is refused
 };
 
+// A ground action as the model names it: its command, the automaton whose transitions on that
+// command mark its start and end (its timing automaton), and the PDDL "(name arg...)".
+struct PlanAction {
+  std::string command;
+  std::string automaton;
+  std::string pddl;
+  bool durative = true;
+};
+
 struct Imported {
   Json domain;      // an action model (contract section 2) that LoadDomain accepts
   Json state_plan;  // with a problem: initial state, goal, objective; else null
   std::vector<Issue> warnings;
   std::size_t ground_actions = 0;
+  std::vector<PlanAction> actions;  // those that appear in the model
 };
 
 // Reads a domain (and, when given, a problem whose objects and :init ground it; without one the
@@ -59,5 +70,12 @@ struct Imported {
 std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
                                                       const std::optional<Source>& problem,
                                                       const ImportOptions& options = {});
+
+// A trajectory (contract section 5) of a model imported as `actions` says as a PDDL 2.1 plan, one
+// line per action in start order: "TIME: (name arg...) [DURATION]" (no duration for an
+// instantaneous action), times in seconds with 3 decimals. Events that share a time keep their
+// order in the file (no epsilon is added between them). An action started but not ended in the
+// trajectory is left out (never in a plan that reached its goal). Never throws.
+std::string PddlPlan(const Json& trajectory, const std::vector<PlanAction>& actions);
 
 }  // namespace ctb::pddl

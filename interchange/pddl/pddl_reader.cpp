@@ -496,8 +496,10 @@ std::optional<ProblemAst> Reader::Problem(const SExpr& e) {
           else
             Expect(false, f, "(= (f objects) NUMBER)");
         } else if (f.HasHead("at") && f.items.size() == 3 && f.items[1].IsAtom() &&
-                   IsNumber(f.items[1].atom)) {
-          Fail(f.pos, "timed initial literal " + f.ToString() + " cannot be mapped");
+                   IsNumber(f.items[1].atom, &v)) {
+          if (v < 0) Fail(f.pos, "timed initial literal " + f.ToString() + " at a negative time");
+          if (auto l = ReadLiteral(f.items[2], true); l && v >= 0)
+            p.tils.push_back(Til{v, std::move(*l)});
         } else if (f.HasHead("not")) {
           continue;  // closed world: already false
         } else if (!Expect(f.is_list && !f.Head().empty(), f, "an atom (predicate objects)")) {

@@ -108,7 +108,15 @@ std::optional<SExpr> ReadSExpr(std::string_view text, const std::string& file,
       SExpr e;
       e.pos = pos;
       std::size_t start = i;
-      while (i < text.size() && !IsDelimiter(text[i])) advance(1);
+      // "-goods" in a typed list is "- goods" (IPC 2006 TPP writes it so): a '-' before a letter
+      // is a token of its own, since no PDDL name starts with '-'.
+      bool dash = text[i] == '-' && i + 1 < text.size() &&
+                  std::isalpha(static_cast<unsigned char>(text[i + 1]));
+      if (dash) {
+        advance(1);
+      } else {
+        while (i < text.size() && !IsDelimiter(text[i])) advance(1);
+      }
       for (std::size_t k = start; k < i; ++k)
         e.atom += static_cast<char>(std::tolower(static_cast<unsigned char>(text[k])));
       if (!emit(std::move(e))) return std::nullopt;

@@ -1,10 +1,15 @@
-// Writing the ground model: one automaton per state variable, a command location chain per
-// durative action, guards from the conditions, and guards that protect over-all conditions.
+// Compiling the ground actions: one automaton per state variable; per ground action a command
+// that every variable it reads or changes takes at its start (and at its end), commanded
+// transitions of every variable it changes at that event, and step locations for the variables it
+// changes at its end (left by commanded transitions its duration later). The rest of the model
+// (timed initial literals, over-all protections, the goal) is writer_model.cpp's.
 #include "interchange/pddl/internal/writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
+#include "interchange/pddl/internal/writer_impl.h"
 #include "planner/model/domain.h"
 
 namespace ctb::pddl {
@@ -21,7 +26,7 @@ std::string Identifier(const std::string& name) {
   return s;
 }
 
-namespace {
+namespace writer_impl {
 
 std::string Join(const std::vector<std::string>& parts, const std::string& sep) {
   std::string s;
@@ -41,336 +46,260 @@ std::vector<std::string> Split(const std::string& s) {
   return out;
 }
 
-// Makes names unique within one namespace: "x", then "x_2", "x_3", ...
-class NameSet {
- public:
-  std::string Take(const std::string& base) {
-    std::string n = base;
-    for (int k = 2; taken_.count(n); ++k) n = base + "_" + std::to_string(k);
-    taken_.insert(n);
-    return n;
-  }
-  void Reserve(const std::string& n) { taken_.insert(n); }
-  bool Has(const std::string& n) const { return taken_.count(n) > 0; }
-
- private:
-  std::set<std::string> taken_;
-};
-
-class Writer {
- public:
-  Writer(const DomainAst& d, const StateVars& sv, const Grounded& g, const ProblemAst* p,
-         const ImportOptions& o, std::vector<Issue>& issues)
-      : d_(d), sv_(sv), g_(g), p_(p), o_(o), issues_(issues) {}
-
-  std::optional<Written> Run();
-
- private:
-  int VarIndex(const VarKey& k) const {
-    auto it = var_index_.find(k);
-    return it == var_index_.end() ? -1 : it->second;
-  }
-  void Index();
-  void NameAutomata();
-  std::string ValueName(const VarKey& k, const std::string& value) const;
-  void NameLocations();
-  std::string Atom(int var, const std::string& value, bool equal, const std::string& index) const;
-  std::string Guard(std::size_t action) const;
-  void Protect();
-  std::optional<double> Resolution();
-  Json Duration(double v) const;
-  Json Automata();
-  std::optional<std::string> GoalText(const Goal& goal);
-
-  const DomainAst& d_;
-  const StateVars& sv_;
-  const Grounded& g_;
-  const ProblemAst* p_;
-  const ImportOptions& o_;
-  std::vector<Issue>& issues_;
-  std::vector<std::string> automaton_;                        // per variable
-  std::vector<std::map<std::string, std::string>> location_;  // per variable: value -> name
-  std::vector<std::string> step_;                  // per ground action: timed location and command
-  std::vector<int> var_of_;                        // per ground action
-  std::vector<std::vector<std::string>> protect_;  // per ground action: extra guard atoms
-  std::map<VarKey, int> var_index_;
-  // Ground actions by (variable, value they leave) and (variable, value they enter).
-  std::map<std::pair<int, std::string>, std::vector<std::size_t>> leaving_, entering_;
-  double resolution_ = 1;
-};
-
-void Writer::Index() {
-  for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    var_index_[g_.variables[i].key] = static_cast<int>(i);
-  for (std::size_t a = 0; a < g_.actions.size(); ++a) {
-    int v = VarIndex(g_.actions[a].var);
-    leaving_[{v, g_.actions[a].from}].push_back(a);
-    entering_[{v, g_.actions[a].to}].push_back(a);
-  }
-}
-
-const std::vector<std::size_t>& Lookup(
-    const std::map<std::pair<int, std::string>, std::vector<std::size_t>>& m, int v,
-    const std::string& value) {
-  static const std::vector<std::size_t> kNone;
-  auto it = m.find({v, value});
-  return it == m.end() ? kNone : it->second;
-}
-
-// An automaton is named from its object when the object has no other state variable, and so are
-// the other automata of its group (robot1, robot2); else object_group (arm1_busy, arm2_busy);
-// a 0-ary group by its name, a boolean atom of several objects as pred_a_b.
-void Writer::NameAutomata() {
-  std::map<std::vector<std::string>, int> per_owner;
-  for (const auto& v : g_.variables) ++per_owner[v.key.owner];
-  std::set<int> shared;  // groups with an owner that has several variables
-  for (const auto& v : g_.variables)
-    if (v.key.owner.size() != 1 || per_owner[v.key.owner] > 1) shared.insert(v.key.group);
-  NameSet vars;
-  for (const auto& v : g_.variables) {
-    const Group& grp = sv_.groups[v.key.group];
-    std::string base;
-    if (v.key.owner.size() == 1)
-      base = shared.count(v.key.group) ? v.key.owner[0] + "_" + grp.name : v.key.owner[0];
-    else if (v.key.owner.empty())
-      base = grp.name;
-    else  // a boolean atom of several objects: connected_a_b
-      base = grp.name + "_" + Join(v.key.owner, "_");
-    base = Identifier(base);
-    // The automaton's variables X, Xl and Xu must not meet another's.
-    std::string n = base;
-    for (int k = 2; vars.Has(n) || vars.Has(n + "l") || vars.Has(n + "u"); ++k)
-      n = base + "_" + std::to_string(k);
-    for (const std::string& x : {n, n + "l", n + "u"}) vars.Reserve(x);
-    automaton_.push_back(n);
-  }
-}
-
-std::string Writer::ValueName(const VarKey& k, const std::string& value) const {
-  const Group& grp = sv_.groups[k.group];
-  if (grp.boolean)
-    return value.rfind("not ", 0) == 0 ? Identifier("not_" + value.substr(4)) : Identifier(value);
-  std::vector<std::string> parts = Split(value);  // pred, then the arguments after the owner
-  if (grp.preds.size() == 1 && parts.size() == 2) return Identifier(parts[1]);
-  return Identifier(Join(parts, "_"));
-}
-
-void Writer::NameLocations() {
-  location_.resize(g_.variables.size());
-  std::vector<NameSet> used(g_.variables.size());
-  for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    for (const auto& v : g_.variables[i].values)
-      location_[i][v] = used[i].Take(ValueName(g_.variables[i].key, v));
-  std::vector<NameSet> commands(g_.variables.size());
-  for (const auto& ga : g_.actions) {
-    int v = VarIndex(ga.var);
-    var_of_.push_back(v);
-    std::string base =
-        Identifier(d_.actions[ga.action].name + (ga.args.empty() ? "" : "_" + Join(ga.args, "_")));
-    std::string n = base;
-    for (int k = 2; used[v].Has(n) || commands[v].Has(n); ++k) n = base + "_" + std::to_string(k);
-    if (d_.actions[ga.action].durative) used[v].Reserve(n);
-    commands[v].Reserve(n);
-    step_.push_back(n);
-  }
-}
-
-std::string Writer::Atom(int var, const std::string& value, bool equal,
-                         const std::string& index) const {
-  return automaton_[var] + "l[" + index + "]" + (equal ? "==" : "!=") + location_[var].at(value);
-}
-
-// Over-all conditions hold throughout: while X runs (in its timed location), the variable it
-// reads may not leave the value it needs (nor enter the value it forbids).
-void Writer::Protect() {
-  protect_.resize(g_.actions.size());
-  for (std::size_t x = 0; x < g_.actions.size(); ++x) {
-    const GroundAction& ga = g_.actions[x];
-    if (!d_.actions[ga.action].durative) continue;
-    std::string running = automaton_[var_of_[x]] + "l[i]!=" + step_[x];
-    for (const auto& c : ga.conditions) {
-      if (!c.over_all) continue;
-      int v = VarIndex(c.var);
-      for (std::size_t y : Lookup(c.positive ? leaving_ : entering_, v, c.value)) {
-        const GroundAction& gy = g_.actions[y];
-        // Needless when y needs X's variable at a value: X running is at none.
-        bool blocked = false;
-        for (const auto& yc : gy.conditions) blocked = blocked || (yc.positive && yc.var == ga.var);
-        if (!blocked) protect_[y].push_back(running);
-      }
-    }
-  }
-}
-
-std::string Writer::Guard(std::size_t a) const {
-  const GroundAction& ga = g_.actions[a];
-  std::vector<std::string> atoms{automaton_[var_of_[a]] + "u[i]==" + step_[a]};
-  for (const auto& c : ga.conditions) {
-    int v = VarIndex(c.var);
-    atoms.push_back(Atom(v, c.value, c.positive, "i"));
-    if (c.positive || !c.over_all) continue;
-    // Not heading for the forbidden value either: no action on v that ends in it is running.
-    for (std::size_t y : Lookup(entering_, v, c.value))
-      if (d_.actions[g_.actions[y].action].durative)
-        atoms.push_back(automaton_[v] + "l[i]!=" + step_[y]);
-  }
-  for (const auto& p : protect_[a]) atoms.push_back(p);
-  return Join(atoms, " /\\ ");
-}
-
-// The coarsest time resolution (1, 0.1, ..., 0.000001 s) that every duration is a multiple of.
-std::optional<double> Writer::Resolution() {
-  for (int k = 0; k <= 6; ++k) {
-    double scale = std::pow(10.0, k);
-    bool all = true;
-    for (const auto& ga : g_.actions) {
-      for (double v : {ga.lo, ga.hi.value_or(0)}) {
-        double q = v * scale;
-        all = all && std::fabs(q - std::round(q)) < 1e-6;
-      }
-    }
-    if (all) return 1.0 / scale;
-  }
-  for (const auto& ga : g_.actions) {
-    issues_.push_back(Issue{d_.file, d_.actions[ga.action].pos.line,
-                            d_.actions[ga.action].pos.column, d_.actions[ga.action].name,
-                            "durations finer than a microsecond cannot be mapped"});
-    break;
-  }
-  return std::nullopt;
-}
-
-Json Writer::Duration(double v) const {
-  double ticks = std::round(v / resolution_);
-  if (resolution_ == 1.0) return static_cast<long long>(ticks);
-  return ticks * resolution_;
-}
-
-Json Writer::Automata() {
-  std::vector<Json> automata;
+void Writer::BaseLocations() {
+  locs_.resize(g_.variables.size());
+  loc_names_.resize(g_.variables.size());
+  commands_.resize(g_.variables.size());
   for (std::size_t i = 0; i < g_.variables.size(); ++i) {
-    Json locations = Json::array();
-    for (const auto& v : g_.variables[i].values) locations.push_back(location_[i].at(v));
-    automata.push_back({{"name", automaton_[i]},
-                        {"locations", locations},
-                        {"commands", Json::array()},
-                        {"transitions", Json::array()}});
-  }
-  for (std::size_t a = 0; a < g_.actions.size(); ++a) {
-    const GroundAction& ga = g_.actions[a];
-    int v = var_of_[a];
-    Json& au = automata[v];
-    const std::string& from = location_[v].at(ga.from);
-    const std::string& to = location_[v].at(ga.to);
-    bool durative = d_.actions[ga.action].durative;
-    if (!durative && from == to) continue;  // an instantaneous action that changes nothing
-    au["commands"].push_back(step_[a]);
-    if (!durative) {
-      au["transitions"].push_back({{"from", from}, {"to", to}, {"guard", Guard(a)}, {"cost", 2}});
+    const Variable& v = g_.variables[i];
+    if (!v.timeline.empty()) {  // a location per stretch of time with one value
+      std::string value = *v.initial;
+      locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(v.key, value)), value});
+      for (const auto& [t, next] : v.timeline) {
+        if (next == value) continue;
+        std::string when = Duration(t).dump();
+        std::replace(when.begin(), when.end(), '.', '_');
+        locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(v.key, next) + "_at_" + when), next});
+        value = next;
+      }
       continue;
     }
-    au["locations"].push_back(step_[a]);
-    au["transitions"].push_back({{"from", from}, {"to", step_[a]}, {"guard", Guard(a)}});
-    Json t = {{"from", step_[a]},
-              {"to", to},
-              {"duration", {Duration(ga.lo), ga.hi ? Duration(*ga.hi) : Json()}}};
-    if (!ga.hi || *ga.hi != ga.lo) t["controllable"] = true;
-    au["transitions"].push_back(std::move(t));
+    for (const auto& value : v.values)
+      locs_[i].push_back(Loc{loc_names_[i].Take(ValueName(v.key, value)), value});
   }
-  for (auto& au : automata)
-    if (au["commands"].empty()) au.erase("commands");
-  return automata;
 }
 
-std::optional<std::string> Writer::GoalText(const Goal& goal) {
-  auto join = [&](const char* op, const char* empty) -> std::optional<std::string> {
-    if (goal.kids.empty()) return std::string(empty);
-    std::vector<std::string> parts;
-    for (const auto& k : goal.kids) {
-      auto t = GoalText(k);
-      if (!t) return std::nullopt;
-      parts.push_back(*t);
-    }
-    return parts.size() == 1 ? parts[0] : "(" + Join(parts, op) + ")";
+// The base location of a value, or with a step name, the step location holding that value.
+int Writer::LocOf(int var, const std::string& value, const std::string& step_name) {
+  auto& locs = locs_[var];
+  for (std::size_t k = 0; k < locs.size(); ++k)
+    if (locs[k].value == value &&
+        (step_name.empty() ? !locs[k].step : locs[k].name.rfind(step_name, 0) == 0 && locs[k].step))
+      return static_cast<int>(k);
+  if (step_name.empty()) return -1;
+  locs.push_back(Loc{loc_names_[var].Take(step_name), value, true});
+  return static_cast<int>(locs.size()) - 1;
+}
+
+// Accept and Refuse return a placeholder that Expand writes out once every location exists (an
+// action written later may add step locations that hold the value).
+std::string Writer::Accept(int var, const std::string& value, const std::string& index,
+                           bool base_only) const {
+  return std::string("\x01") + "+" + (base_only ? "b" : "a") + std::to_string(var) + " " + index +
+         " " + value;
+}
+
+std::string Writer::Refuse(int var, const std::string& value, const std::string& index,
+                           bool base_only) const {
+  return std::string("\x01") + "-" + (base_only ? "b" : "a") + std::to_string(var) + " " + index +
+         " " + value;
+}
+
+// A placeholder as atoms: the locations with the value, or where that is longer, not the others.
+// Where both lists are longer than kListedReads, a guard's read asks for the automaton at rest
+// (in a base location) with the value, or with another value for a refusal: stricter than PDDL
+// (counted in coarse_reads_).
+std::string Writer::Expand(const std::string& atom) {
+  if (atom.empty() || atom[0] != '\x01') return atom;
+  bool accept = atom[1] == '+', base_only = atom[2] == 'b';
+  std::size_t sp1 = atom.find(' '), sp2 = atom.find(' ', sp1 + 1);
+  int var = std::stoi(atom.substr(3, sp1 - 3));
+  std::string index = atom.substr(sp1 + 1, sp2 - sp1 - 1), value = atom.substr(sp2 + 1);
+  std::vector<std::string> in, out;
+  for (const auto& l : locs_[var])
+    (l.value == value && !(base_only && l.step) ? in : out).push_back(l.name);
+  if (in.empty() || out.empty()) return (in.empty() != accept) ? "true" : "false";
+  if (std::min(in.size(), out.size()) > kListedReads) {
+    ++coarse_reads_;
+    std::vector<std::string> at_rest;
+    for (const auto& l : locs_[var])
+      if (!l.step && (l.value == value) == accept) at_rest.push_back(l.name);
+    in = at_rest;
+    out.clear();
+    accept = true;
+    if (in.empty()) return "false";
+  }
+  bool listed = out.empty() || in.size() <= out.size();  // name the locations with the value
+  const auto& names = listed ? in : out;
+  bool equal = listed == accept;
+  std::vector<std::string> atoms;
+  for (const auto& n : names)
+    atoms.push_back(automaton_[var] + "l[" + index + "]" + (equal ? "==" : "!=") + n);
+  if (!equal) return Join(atoms, " /\\ ");
+  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
+}
+
+std::string Writer::InLocs(int var, const std::vector<int>& locs, const std::string& index) const {
+  std::vector<std::string> atoms;
+  for (int k : locs) atoms.push_back(automaton_[var] + "l[" + index + "]==" + locs_[var][k].name);
+  if (atoms.empty()) return "false";
+  return atoms.size() == 1 ? atoms[0] : "(" + Join(atoms, " \\/ ") + ")";
+}
+
+void Writer::Command(int var, std::size_t action) {
+  auto& c = commands_[var];
+  if (std::find(c.begin(), c.end(), cmd_[action]) == c.end()) c.push_back(cmd_[action]);
+}
+
+// Which variables the action changes (at start, at end), reads, and from which values each changed
+// variable can start; nullopt when some changed variable has none (never applicable).
+std::optional<Writer::Plan> Writer::MakePlan(std::size_t x) {
+  const GroundAction& ga = g_.actions[x];
+  bool durative = d_.actions[ga.action].durative;
+  Plan plan;
+  for (const auto& u : ga.uses) {
+    if (u.Changes()) plan.changed.push_back(&u);
+    if (durative && u.eff_end) plan.at_end.push_back(&u);
+  }
+  if (plan.changed.empty()) return std::nullopt;
+  if (durative && plan.at_end.empty()) plan.at_end.push_back(plan.changed[0]);
+  for (const auto& u : ga.uses) {
+    bool changed = u.Changes(), ends = std::count(plan.at_end.begin(), plan.at_end.end(), &u);
+    if (!changed && (u.need[0] || u.need[1] || !u.forbid[0].empty() || !u.forbid[1].empty()))
+      plan.read_start.push_back(&u);
+    if (!ends && (u.need[2] || !u.forbid[2].empty())) plan.read_end.push_back(&u);
+  }
+  auto allowed = [](const VarUse& u, int w, const std::string& v) {
+    return (!u.need[w] || *u.need[w] == v) &&
+           std::find(u.forbid[w].begin(), u.forbid[w].end(), v) == u.forbid[w].end();
   };
-  switch (goal.kind) {
-    case Goal::Kind::kAnd:
-      return join(" /\\ ", "true");
-    case Goal::Kind::kOr:
-      return join(" \\/ ", "false");
-    case Goal::Kind::kImply:
-      return join(" -> ", "true");
-    case Goal::Kind::kNot: {
-      auto t = GoalText(goal.kids[0]);
-      if (!t) return std::nullopt;
-      return "(not " + *t + ")";
+  for (const VarUse* u : plan.changed) {
+    bool ends = std::count(plan.at_end.begin(), plan.at_end.end(), u);
+    for (const auto& s : g_.variables[VarIndex(u->var)].values) {
+      std::string post = u->eff_start.value_or(s);
+      if (!allowed(*u, 0, s) || (durative && !allowed(*u, 1, post))) continue;
+      if (ends && !allowed(*u, 2, post)) continue;
+      if (!ends && post == kNoValue) continue;
+      plan.sources[u].push_back(s);
     }
-    case Goal::Kind::kLiteral:
-      break;
+    if (plan.sources[u].empty()) return std::nullopt;
   }
-  const ::ctb::pddl::Atom& a = goal.lit.atom;
-  for (const auto& x : a.args) {
-    if (std::find(g_.objects.begin(), g_.objects.end(), x) == g_.objects.end()) {
-      issues_.push_back(Issue{p_->file, a.pos.line, a.pos.column, "",
-                              "goal " + goal.lit.text + ": unknown object '" + x + "'"});
-      return std::nullopt;
-    }
+  return plan;
+}
+
+// Guard atoms for what the action reads of a variable it does not change, at start (first 0, last
+// 1) or at its end (2, 2).
+std::vector<std::string> Writer::Reads(const VarUse& u, int first, int last, std::size_t x) {
+  int v = VarIndex(u.var);
+  std::vector<std::string> atoms;
+  std::set<std::string> done;
+  for (int w = first; w <= last; ++w) {
+    if (u.need[w] && done.insert("+" + *u.need[w]).second)
+      atoms.push_back(Accept(v, *u.need[w], "i"));
+    for (const auto& f : u.forbid[w])
+      if (done.insert("-" + f).second) atoms.push_back(Refuse(v, f, "i"));
   }
-  const Signature* s = a.equality ? nullptr : d_.Predicate(a.pred);
-  if (!a.equality && (!s || s->params.size() != a.args.size())) {
-    issues_.push_back(Issue{p_->file, a.pos.line, a.pos.column, "",
-                            "goal " + goal.lit.text + ": unknown predicate or wrong arity"});
-    return std::nullopt;
+  if (first == 0 && (u.need[1] || !u.forbid[1].empty())) over_all_[x].emplace_back(v, &u);
+  return atoms;
+}
+
+// The end's check of a timed literal's atom cannot tell two stretches with the value apart: an
+// action running across a change and back is accepted. Said once per atom where that can happen.
+void Writer::WarnRepeatedStretch(const VarUse& u, std::size_t x) {
+  int v = VarIndex(u.var);
+  if (!u.need[1] || !warned_stretch_.insert(v).second) return;
+  int stretches = 0;
+  for (const auto& l : locs_[v]) stretches += l.value == *u.need[1];
+  if (stretches < 2) {
+    warned_stretch_.erase(v);
+    return;
   }
-  auto constant = [&](bool truth) {
-    return std::string(truth == goal.lit.positive ? "true" : "false");
+  const Action& a = d_.actions[g_.actions[x].action];
+  warnings_.push_back(Issue{d_.file, a.pos.line, a.pos.column, a.name,
+                            "over all on '" + automaton_[v] + "', which timed initial literals " +
+                                "give the value " + std::to_string(stretches) +
+                                " times: checked at the start and the end only"});
+}
+
+void Writer::WriteAction(std::size_t x) {
+  auto plan = MakePlan(x);
+  if (!plan) return;
+  const GroundAction& ga = g_.actions[x];
+  bool durative = d_.actions[ga.action].durative;
+  auto ends = [&](const VarUse* u) {
+    return std::count(plan->at_end.begin(), plan->at_end.end(), u) > 0;
   };
-  if (a.equality) return constant(a.args[0] == a.args[1]);
-  auto loc = g_.Locate(sv_, a);
-  if (!loc) return constant(g_.facts.count(GroundKey(a.pred, a.args)) > 0);
-  int v = VarIndex(loc->first);
-  if (v < 0 || !location_[v].count(loc->second)) return constant(false);  // never reached
-  return Atom(v, loc->second, goal.lit.positive, "i+1");
-}
-
-std::optional<Written> Writer::Run() {
-  if (g_.variables.empty()) {
-    issues_.push_back(Issue{d_.file, 0, 0, "",
-                            "nothing to import: no action applies to any "
-                            "object and no state variable has a value"});
-    return std::nullopt;
+  timing_[x] = durative ? VarIndex(plan->at_end[0]->var) : VarIndex(plan->changed[0]->var);
+  // Start: every changed variable's command and source, every read variable's command and value.
+  std::vector<std::string> start;
+  std::map<const VarUse*, std::string> source_atom;
+  for (const VarUse* u : plan->changed) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    touches_[x].insert(v);
+    std::vector<int> locs;
+    for (const auto& s : plan->sources[u]) locs.push_back(LocOf(v, s, ""));
+    source_atom[u] = InLocs(v, locs, "i");
   }
-  Index();
-  NameAutomata();
-  NameLocations();
-  Protect();
-  auto res = Resolution();
-  if (!res) return std::nullopt;
-  resolution_ = *res;
-  Written w;
-  std::string desc = "Imported from the PDDL domain '" + d_.name + "'";
-  if (p_) desc += " with the objects of problem '" + p_->name + "'";
-  w.domain = {{"name", o_.name.empty() ? Identifier(d_.name) : o_.name}, {"description", desc}};
-  if (resolution_ != 1.0) w.domain["time_resolution"] = resolution_;
-  w.domain["automata"] = Automata();
-  if (!p_) return w;
-  Json initial = Json::object();
-  for (std::size_t i = 0; i < g_.variables.size(); ++i)
-    initial[automaton_[i]] = location_[i].at(*g_.variables[i].initial);
-  auto goal = GoalText(*p_->goal);
-  if (!goal) return std::nullopt;
-  w.state_plan = {{"initial_state", initial},
-                  {"end_state", {{"maintenance_constraint", "true"}, {"goal_constraint", *goal}}}};
-  if (p_->minimize_total_time) w.state_plan["objective"] = "makespan";
-  return w;
+  for (const VarUse* u : plan->read_start) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    start.push_back(automaton_[v] + "u[i]==" + cmd_[x]);
+    for (auto& a : Reads(*u, 0, 1, x)) start.push_back(a);
+  }
+  for (const VarUse* u : plan->changed)
+    if (durative && !ends(u) && (u->need[1] || !u->forbid[1].empty()))
+      over_all_[x].emplace_back(VarIndex(u->var), u);
+  std::map<const VarUse*, std::vector<int>> steps;
+  for (const VarUse* u : plan->changed) {
+    int v = VarIndex(u->var);
+    std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};
+    for (const VarUse* o : plan->changed)
+      if (o != u) {
+        guard.push_back(automaton_[VarIndex(o->var)] + "u[i]==" + cmd_[x]);
+        guard.push_back(source_atom[o]);
+      }
+    guard.insert(guard.end(), start.begin(), start.end());
+    std::set<std::string> posts;
+    for (const auto& s : plan->sources[u]) posts.insert(u->eff_start.value_or(s));
+    for (const auto& s : plan->sources[u]) {
+      std::string post = u->eff_start.value_or(s);
+      std::string step = posts.size() == 1 ? cmd_[x] : cmd_[x] + "_" + ValueName(u->var, post);
+      int to = ends(u) ? LocOf(v, post, step) : LocOf(v, post, "");
+      if (ends(u) && std::find(steps[u].begin(), steps[u].end(), to) == steps[u].end())
+        steps[u].push_back(to);
+      int from = LocOf(v, s, "");
+      if (from == to) continue;
+      int cost = v == timing_[x] ? (durative ? 1 : 2) : 0;
+      trans_.push_back(Trans{v, from, to, guard, std::nullopt, cost, static_cast<int>(x), true});
+    }
+  }
+  if (!durative) return;
+  timing_steps_[x] = steps[plan->at_end[0]];
+  // End: every variable with a step leaves it together, the duration after the start.
+  std::vector<std::string> end;
+  for (const VarUse* u : plan->read_end) {
+    int v = VarIndex(u->var);
+    Command(v, x);
+    end.push_back(automaton_[v] + "u[i]==" + cmd_[x]);
+    for (auto& a : Reads(*u, 2, 2, x)) end.push_back(a);
+  }
+  // A timed initial literal's atom read over all: still the value at the end (its transitions are
+  // automatic at fixed times and cannot wait for the action).
+  for (const VarUse* u : plan->read_start)
+    if (!g_.variables[VarIndex(u->var)].timeline.empty()) {
+      for (auto& a : Reads(*u, 1, 1, x)) end.push_back(a);
+      WarnRepeatedStretch(*u, x);
+    }
+  for (const VarUse* u : plan->at_end) {
+    int v = VarIndex(u->var);
+    std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};
+    for (const VarUse* o : plan->at_end)
+      if (o != u) {
+        int ov = VarIndex(o->var);
+        guard.push_back(automaton_[ov] + "u[i]==" + cmd_[x]);
+        guard.push_back(InLocs(ov, steps[o], "i"));
+      }
+    guard.insert(guard.end(), end.begin(), end.end());
+    for (int from : steps[u]) {
+      const std::string& post = locs_[v][from].value;
+      int to = LocOf(v, u->eff_end.value_or(post), "");
+      int cost = v == timing_[x] ? 1 : 0;
+      trans_.push_back(
+          Trans{v, from, to, guard, std::make_pair(ga.lo, ga.hi), cost, static_cast<int>(x)});
+    }
+  }
 }
 
-}  // namespace
-
-std::optional<Written> WriteModel(const DomainAst& d, const StateVars& sv, const Grounded& g,
-                                  const ProblemAst* p, const ImportOptions& options,
-                                  std::vector<Issue>& issues) {
-  return Writer(d, sv, g, p, options, issues).Run();
-}
-
+}  // namespace writer_impl
 }  // namespace ctb::pddl

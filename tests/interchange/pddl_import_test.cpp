@@ -3,80 +3,16 @@
 // domain from its constants, and one located error, naming the action, per unsupported feature.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
-#include "interchange/pddl/import.h"
-#include "planner/model/domain.h"
-#include "planner/model/state_plan.h"
-#include "planner/solve/solve.h"
+#include "tests/interchange/pddl_test_util.h"
 
 namespace ctb::pddl {
 namespace {
 
-std::string SourceDir() { return CTB_TEST_SOURCE_DIR; }
+using namespace ::ctb::pddl::testing;  // NOLINT: the helpers of these tests
 
-Source Fixture(const std::string& name) {
-  std::string path = SourceDir() + "/tests/interchange/pddl/" + name;
-  std::ifstream f(path);
-  std::ostringstream s;
-  s << f.rdbuf();
-  EXPECT_FALSE(s.str().empty()) << path;
-  return Source{name, s.str()};
-}
-
-std::string Issues(const std::vector<Issue>& issues) {
-  std::string s;
-  for (const auto& i : issues) s += i.ToString() + "\n";
-  return s;
-}
-
-Imported MustImport(const Source& d, const std::optional<Source>& p) {
-  auto r = ImportPddl(d, p);
-  if (auto* e = std::get_if<std::vector<Issue>>(&r)) {
-    ADD_FAILURE() << Issues(*e);
-    return Imported{};
-  }
-  return std::get<Imported>(r);
-}
-
-std::vector<Issue> MustFail(const Source& d, const std::optional<Source>& p = std::nullopt) {
-  auto r = ImportPddl(d, p);
-  if (auto* e = std::get_if<std::vector<Issue>>(&r)) return *e;
-  ADD_FAILURE() << "imported although it should not:\n" << std::get<Imported>(r).domain.dump(2);
-  return {};
-}
-
-const Json* FindAutomaton(const Json& domain, const std::string& name) {
-  for (const auto& a : domain["automata"])
-    if (a["name"] == name) return &a;
-  return nullptr;
-}
-
-const Json* FindTransition(const Json& automaton, const std::string& from, const std::string& to) {
-  for (const auto& t : automaton["transitions"])
-    if (t["from"] == from && t["to"] == to) return &t;
-  return nullptr;
-}
-
-Json SolveImported(const Json& domain_json, const Json& plan_json, SolveOptions o = {}) {
-  Diagnostics d;
-  auto dom = LoadDomain(domain_json, d);
-  EXPECT_TRUE(dom) << (d.errors().empty() ? "" : d.errors()[0].ToString());
-  if (!dom) return Json();
-  auto sp = LoadStatePlan(plan_json, *dom, d);
-  EXPECT_TRUE(sp) << (d.errors().empty() ? "" : d.errors()[0].ToString());
-  if (!sp) return Json();
-  o.time_limit_ms = 120000;
-  auto r = Solve(*dom, *sp, o);
-  if (auto* e = std::get_if<Error>(&r)) {
-    ADD_FAILURE() << e->ToString();
-    return Json();
-  }
-  return std::get<Json>(r);
-}
-
-TEST(PddlImport, SearchRescueBecomesOneAutomatonPerRobotAndDoor) {
+// One automaton per state variable; a durative action is a commanded start into its step location
+// and a commanded end its duration later; an instantaneous one a single commanded transition.
+TEST(PddlImport, SearchRescueCompilesActionsToCommandedStartsAndEnds) {
   Imported im =
       MustImport(Fixture("search_rescue_domain.pddl"), Fixture("search_rescue_problem.pddl"));
   ASSERT_TRUE(im.domain.is_object());
@@ -86,35 +22,44 @@ TEST(PddlImport, SearchRescueBecomesOneAutomatonPerRobotAndDoor) {
   EXPECT_EQ(names, (std::vector<std::string>{"robot1", "robot2", "door1", "door2", "door3"}));
   const Json* r1 = FindAutomaton(im.domain, "robot1");
   ASSERT_TRUE(r1);
-  // A durative action is a command location chain: commanded into the timed location, then
-  // automatic to the new value after the duration.
   const Json* start = FindTransition(*r1, "outside", "drive_robot1_outside_at_door2");
   const Json* end = FindTransition(*r1, "drive_robot1_outside_at_door2", "at_door2");
   ASSERT_TRUE(start && end) << r1->dump(2);
   EXPECT_EQ((*start)["guard"], "robot1u[i]==drive_robot1_outside_at_door2");
+  EXPECT_FALSE(start->contains("duration"));
+  EXPECT_EQ((*end)["guard"], "robot1u[i]==drive_robot1_outside_at_door2");
   EXPECT_EQ((*end)["duration"], Json::parse("[10, 10]"));
-  EXPECT_FALSE(end->contains("guard"));
-  // An instantaneous action is one commanded transition; its fluent condition a guard.
+  // The pass reads the door (its command too: no other action on the door at that event), and
+  // may not take robot 1 away from the door while robot 1 opens it (over all (at ?r ?from)).
   const Json* pass = FindTransition(*r1, "at_door1", "room1");
   ASSERT_TRUE(pass);
-  EXPECT_EQ((*pass)["guard"], "robot1u[i]==pass_robot1_door1_at_door1_room1 /\\ door1l[i]==open");
-  // The door's opening reads the robot over all: the robot may not leave meanwhile.
+  EXPECT_EQ((*pass)["guard"],
+            "robot1u[i]==pass_robot1_door1_at_door1_room1 /\\ "
+            "door1u[i]==pass_robot1_door1_at_door1_room1 /\\ door1l[i]==open /\\ "
+            "door1l[i]!=open_door_robot1_door1_at_door1");
+  EXPECT_EQ((*pass)["cost"], 2);
   const Json* d1 = FindAutomaton(im.domain, "door1");
   ASSERT_TRUE(d1);
   const Json* open = FindTransition(*d1, "closed", "open_door_robot2_door1_at_door1");
   ASSERT_TRUE(open) << d1->dump(2);
   EXPECT_EQ((*open)["guard"],
-            "door1u[i]==open_door_robot2_door1_at_door1 /\\ robot2l[i]==at_door1");
-  // The drive away from the door would be protected; the pass needs the door open already.
+            "door1u[i]==open_door_robot2_door1_at_door1 /\\ "
+            "robot2u[i]==open_door_robot2_door1_at_door1 /\\ robot2l[i]==at_door1");
   const Json* d3 = FindAutomaton(im.domain, "door3");
   ASSERT_TRUE(d3);
   EXPECT_EQ((*d3)["locations"], Json::parse(R"(["open"])"));
   EXPECT_EQ(im.state_plan["initial_state"],
             Json::parse(R"({"robot1": "outside", "robot2": "outside", "door1": "closed",
                             "door2": "closed", "door3": "open"})"));
-  EXPECT_EQ(im.state_plan["end_state"]["goal_constraint"],
-            "((robot1l[i+1]==person1 /\\ robot2l[i+1]==person2) \\/ "
-            "(robot1l[i+1]==person2 /\\ robot2l[i+1]==person1))");
+  // The goal, then "no action runs": no automaton in a step location.
+  std::string goal = im.state_plan["end_state"]["goal_constraint"];
+  EXPECT_EQ(goal.rfind("(((robot1l[i+1]==person1 /\\ robot2l[i+1]==person2) \\/ "
+                       "(robot1l[i+1]==person2 /\\ robot2l[i+1]==person1))) /\\ ",
+                       0),
+            0u)
+      << goal;
+  EXPECT_NE(goal.find("robot1l[i+1]!=drive_robot1_outside_at_door2"), std::string::npos);
+  EXPECT_NE(goal.find("door1l[i+1]!=open_door_robot2_door1_at_door1"), std::string::npos);
   EXPECT_EQ(im.state_plan["objective"], "makespan");
 }
 
@@ -153,7 +98,9 @@ TEST(PddlImport, OneRobotRescuingPersonOneTakes11Seconds) {
   auto end = p.text.find("(:metric");
   p.text.replace(at, end - at, "(:goal (at robot1 person1))\n  ");
   Imported im = MustImport(Fixture("search_rescue_domain.pddl"), p);
-  EXPECT_EQ(im.state_plan["end_state"]["goal_constraint"], "robot1l[i+1]==person1");
+  EXPECT_EQ(im.state_plan["end_state"]["goal_constraint"].get<std::string>().rfind(
+                "(robot1l[i+1]==person1) /\\ ", 0),
+            0u);
   Json t = SolveImported(im.domain, im.state_plan);
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "optimal");
@@ -170,11 +117,11 @@ TEST(PddlImport, PresentationFromConstantsWithoutAProblem) {
   ASSERT_TRUE(proj);
   EXPECT_EQ((*proj)["locations"], Json::parse(R"(["proj_off", "proj_on", "warm_up_proj_conn",
                                                    "cool_down_proj"])"));
-  // (>= ?duration 60) (<= ?duration 90): the planner picks the end within the bounds.
+  // (>= ?duration 60) (<= ?duration 90): the planner commands the end within the bounds.
   const Json* cool = FindTransition(*proj, "cool_down_proj", "proj_off");
   ASSERT_TRUE(cool);
   EXPECT_EQ((*cool)["duration"], Json::parse("[60, 90]"));
-  EXPECT_EQ((*cool)["controllable"], true);
+  EXPECT_EQ((*cool)["guard"], "proju[i]==cool_down_proj");
   // Over all (connected conn): the cable may not be disconnected while the projector warms up.
   const Json* conn = FindAutomaton(im.domain, "conn");
   ASSERT_TRUE(conn);
@@ -185,12 +132,15 @@ TEST(PddlImport, PresentationFromConstantsWithoutAProblem) {
   // Connect first (the computer must be off), then warm up: on at 30 s.
   Json plan = Json::parse(R"({
     "initial_state": {"comp": "comp_off", "conn": "disconnected", "proj": "proj_off"},
-    "end_state": {"maintenance_constraint": "true", "goal_constraint": "projl[i+1]==proj_on"},
+    "end_state": {"maintenance_constraint": "true",
+                  "goal_constraint": "projl[i+1]==proj_on /\\ connl[i+1]==disconnected"},
     "objective": "makespan"})");
   Json t = SolveImported(im.domain, plan);
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "optimal");
+  // Disconnecting is allowed only once the projector is on (30 s), at an event of its own.
   EXPECT_EQ(t["objective"]["value"], 30);
+  EXPECT_EQ(t["verified"], true);
 }
 
 // One-argument and 0-ary predicates that actions switch alone are boolean variables; a negative
@@ -227,29 +177,40 @@ TEST(PddlImport, BooleanFluentsNegativeOverAllAndFineDurations) {
   std::vector<std::string> names;
   for (const auto& a : im.domain["automata"]) names.push_back(a["name"]);
   EXPECT_EQ(names, (std::vector<std::string>{"lit", "a1", "a2", "d_open", "d_locked"}));
-  // a3 has no value of idle/busy: left out, with a warning.
-  ASSERT_EQ(im.warnings.size(), 1u);
-  EXPECT_NE(im.warnings[0].message.find("'a3' has no initial value"), std::string::npos);
+  // a3 has no value of idle/busy, so no action can ever apply to it: reachability grounding
+  // leaves it out (no automaton, nothing to warn about).
+  EXPECT_EQ(FindAutomaton(im.domain, "a3"), nullptr);
+  EXPECT_TRUE(im.warnings.empty()) << Issues(im.warnings);
+  // switch-on adds lit at its end whatever lit was: a step per source value.
   const Json* lit = FindAutomaton(im.domain, "lit");
   ASSERT_TRUE(lit);
-  EXPECT_EQ((*lit)["locations"], Json::parse(R"(["not_lit", "lit", "switch_on"])"));
-  const Json* on = FindTransition(*lit, "not_lit", "switch_on");
+  EXPECT_EQ((*lit)["locations"],
+            Json::parse(R"(["not_lit", "lit", "switch_on_not_lit", "switch_on_lit"])"));
+  const Json* on = FindTransition(*lit, "not_lit", "switch_on_not_lit");
   ASSERT_TRUE(on);
-  EXPECT_EQ((*on)["guard"], "litu[i]==switch_on /\\ d_openl[i]!=open /\\ d_openl[i]!=open_it_d");
-  EXPECT_EQ((*FindTransition(*lit, "switch_on", "lit"))["duration"], Json::parse("[0.5, 0.5]"));
+  // Over all (not (open d)): d not open, at the start...
+  EXPECT_EQ((*on)["guard"],
+            "litu[i]==switch_on /\\ d_openu[i]==switch_on /\\ "
+            "(d_openl[i]==not_open \\/ d_openl[i]==open_it_d_not_open)");
+  EXPECT_EQ((*FindTransition(*lit, "switch_on_not_lit", "lit"))["duration"],
+            Json::parse("[0.5, 0.5]"));
+  // ... and the door's opening may not end while switch-on runs.
   const Json* door = FindAutomaton(im.domain, "d_open");
   ASSERT_TRUE(door);
-  EXPECT_EQ((*FindTransition(*door, "not_open", "open_it_d"))["guard"],
-            "d_openu[i]==open_it_d /\\ d_lockedl[i]!=locked /\\ litl[i]!=switch_on");
+  const Json* opened = FindTransition(*door, "open_it_d_not_open", "open");
+  ASSERT_TRUE(opened);
+  EXPECT_EQ((*opened)["guard"],
+            "d_openu[i]==open_it_d /\\ litl[i]!=switch_on_not_lit /\\ litl[i]!=switch_on_lit");
   EXPECT_EQ(im.state_plan["initial_state"],
             Json::parse(R"({"lit": "not_lit", "a1": "idle", "a2": "idle", "d_open": "not_open",
                             "d_locked": "not_locked"})"));
-  EXPECT_EQ(im.state_plan["end_state"]["goal_constraint"],
-            "(a1l[i+1]==busy /\\ (not d_openl[i+1]==open))");
+  std::string goal = im.state_plan["end_state"]["goal_constraint"];
+  EXPECT_EQ(goal.rfind("((a1l[i+1]==busy /\\ (not d_openl[i+1]==open))) /\\ ", 0), 0u) << goal;
   // Light on at 0.5 s, work for the shortest allowed 1 s: 1.5 s.
   Json t = SolveImported(im.domain, im.state_plan);
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["verified"], true);
   EXPECT_EQ(t["objective"]["value"], 1.5);
 }
 
@@ -279,18 +240,45 @@ void ExpectOneIssue(const std::vector<Issue>& issues, const std::string& action,
       << issues[0].ToString();
 }
 
-TEST(PddlImportErrors, ActionChangingTwoStateVariables) {
-  int line = 0;
-  auto issues = MustFail(WithAction(R"((:durative-action boot-and-connect
+// An action changing two state variables: both take its command at its start and leave their
+// step locations together at its end, each guarded by the other's command and location.
+TEST(PddlImportRules, ActionChangingTwoStateVariables) {
+  Source two = WithAction(R"((:durative-action boot-and-connect
     :parameters (?c - computer ?k - cable)
     :duration (= ?duration 15)
     :condition (and (at start (comp-off ?c)) (at start (disconnected ?k)))
     :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c))
-                 (at start (not (disconnected ?k))) (at end (connected ?k)))))",
-                                    &line));
-  ExpectOneIssue(issues, "boot-and-connect", line + 5, "changes two state variables at once");
-  EXPECT_NE(issues[0].message.find("(comp-off ?c) of ?c"), std::string::npos) << issues[0].message;
-  EXPECT_NE(issues[0].message.find("of ?k"), std::string::npos) << issues[0].message;
+                 (at start (not (disconnected ?k))) (at end (connected ?k)))))");
+  Imported im = MustImport(two, std::nullopt);
+  const Json* comp = FindAutomaton(im.domain, "comp");
+  const Json* conn = FindAutomaton(im.domain, "conn");
+  ASSERT_TRUE(comp && conn) << im.domain.dump(1);
+  const std::string cmd = "boot_and_connect_comp_conn";
+  const Json* cs = FindTransition(*comp, "comp_off", cmd);
+  const Json* ks = FindTransition(*conn, "disconnected", cmd);
+  const Json* ce = FindTransition(*comp, cmd, "comp_on");
+  const Json* ke = FindTransition(*conn, cmd, "connected");
+  ASSERT_TRUE(cs && ks && ce && ke) << im.domain.dump(1);
+  EXPECT_EQ((*cs)["guard"],
+            "compu[i]==" + cmd + " /\\ connu[i]==" + cmd + " /\\ connl[i]==disconnected");
+  EXPECT_EQ((*ke)["guard"], "connu[i]==" + cmd + " /\\ compu[i]==" + cmd + " /\\ compl[i]==" + cmd);
+  EXPECT_EQ((*ce)["duration"], Json::parse("[15, 15]"));
+  EXPECT_EQ((*ke)["duration"], Json::parse("[15, 15]"));
+  // The action's cost is counted once (on the computer).
+  EXPECT_EQ((*cs)["cost"], 1);
+  EXPECT_EQ((*ks)["cost"], 0);
+  // Both at once: its start and its end cost 1 each (2), where connect (an instant, 2) then boot
+  // (1 + 1) would cost 4.
+  Json plan = Json::parse(R"({
+    "initial_state": {"comp": "comp_off", "conn": "disconnected", "proj": "proj_off"},
+    "end_state": {"maintenance_constraint": "true",
+                  "goal_constraint": "compl[i+1]==comp_on /\\ connl[i+1]==connected"}})");
+  Json t = SolveImported(im.domain, plan);
+  ASSERT_TRUE(t.is_object());
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["verified"], true);
+  EXPECT_EQ(t["objective"]["value"], 2) << t.dump(1);
+  EXPECT_EQ(t["transitions"].size(), 4u) << t.dump(1);
 }
 
 TEST(PddlImportErrors, NumericFluentEffect) {
@@ -326,16 +314,24 @@ TEST(PddlImportErrors, DisjunctiveCondition) {
   ExpectOneIssue(issues, "connect-either", line + 3, "cannot be mapped");
 }
 
-TEST(PddlImportErrors, AtEndCondition) {
-  int line = 0;
-  auto issues = MustFail(WithAction(R"((:durative-action boot-connected
+// An at-end condition is a guard of the end transition (with the read variable's command).
+TEST(PddlImportRules, AtEndConditionGuardsTheEnd) {
+  Imported im = MustImport(WithAction(R"((:durative-action boot-connected
     :parameters (?c - computer ?k - cable)
     :duration (= ?duration 15)
     :condition (and (at start (comp-off ?c))
                     (at end (connected ?k)))
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))",
-                                    &line));
-  ExpectOneIssue(issues, "boot-connected", line + 4, "(at end (connected ?k)) cannot be mapped");
+    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))"),
+                           std::nullopt);
+  const Json* comp = FindAutomaton(im.domain, "comp");
+  ASSERT_TRUE(comp);
+  const Json* start = FindTransition(*comp, "comp_off", "boot_connected_comp_conn");
+  const Json* end = FindTransition(*comp, "boot_connected_comp_conn", "comp_on");
+  ASSERT_TRUE(start && end) << comp->dump(1);
+  EXPECT_EQ((*start)["guard"], "compu[i]==boot_connected_comp_conn");
+  EXPECT_EQ((*end)["guard"],
+            "compu[i]==boot_connected_comp_conn /\\ connu[i]==boot_connected_comp_conn /\\ "
+            "connl[i]==connected");
 }
 
 TEST(PddlImportErrors, ConditionalAndUniversalEffects) {
@@ -355,58 +351,107 @@ TEST(PddlImportErrors, ConditionalAndUniversalEffects) {
   ExpectOneIssue(issues, "reset-all", line + 3, "quantified");
 }
 
-TEST(PddlImportErrors, DeleteWithoutRequiringIt) {
-  int line = 0;
-  auto issues = MustFail(WithAction(R"((:durative-action force-on
+// A delete without the matching precondition: comp-off and comp-on are no longer one state
+// variable (both could be false), so each is a true/false automaton of its own.
+TEST(PddlImportRules, DeleteWithoutRequiringItMakesBooleans) {
+  Imported im = MustImport(WithAction(R"((:durative-action force-on
     :parameters (?c - computer)
     :duration (= ?duration 1)
     :condition ()
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))",
-                                    &line));
-  ExpectOneIssue(issues, "force-on", line + 4, "without requiring it");
+    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c)))))"),
+                           std::nullopt);
+  std::vector<std::string> names;
+  for (const auto& a : im.domain["automata"]) names.push_back(a["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"comp_comp_off", "comp_comp_on", "conn", "proj"}));
+  const Json* off = FindAutomaton(im.domain, "comp_comp_off");
+  ASSERT_TRUE(off);
+  // force-on deletes comp-off at its start whatever else holds.
+  const Json* del = nullptr;
+  for (const auto& t : (*off)["transitions"])
+    if (t["guard"].get<std::string>().rfind("comp_comp_offu[i]==force_on_comp", 0) == 0) del = &t;
+  ASSERT_TRUE(del) << off->dump(1);
+  EXPECT_EQ((*del)["from"], "comp_off");
+  EXPECT_EQ((*del)["to"], "not_comp_off");
 }
 
-TEST(PddlImportErrors, AddingAValueAloneBreaksMutualExclusion) {
-  int line = 0;
-  auto issues = MustFail(WithAction(R"((:action wake
+// Adding comp-on without deleting comp-off: comp-on is a true/false automaton set by wake.
+TEST(PddlImportRules, AddingAValueAloneMakesBooleans) {
+  Imported im = MustImport(WithAction(R"((:action wake
     :parameters (?c - computer)
     :precondition ()
-    :effect (comp-on ?c)))",
-                                    &line));
-  ExpectOneIssue(issues, "wake", line + 3, "without deleting another value");
+    :effect (comp-on ?c)))"),
+                           std::nullopt);
+  const Json* on = FindAutomaton(im.domain, "comp_comp_on");
+  ASSERT_TRUE(on) << im.domain.dump(1);
+  const Json* wake = FindTransition(*on, "not_comp_on", "comp_on");
+  ASSERT_TRUE(wake);
+  EXPECT_EQ((*wake)["guard"], "comp_comp_onu[i]==wake_comp");
+  EXPECT_EQ((*wake)["cost"], 2);
+  // Only shut-down deletes it (with comp-off's command: both variables at its start).
+  const Json* off = FindTransition(*on, "comp_on", "not_comp_on");
+  ASSERT_TRUE(off);
+  EXPECT_EQ((*off)["guard"].get<std::string>().rfind(
+                "comp_comp_onu[i]==shut_down_comp /\\ comp_comp_offu[i]==shut_down_comp", 0),
+            0u);
 }
 
-TEST(PddlImportErrors, StaticPredicateNeedsTheProblem) {
+TEST(PddlImportErrors, DurationFromAFunctionNeedsTheProblem) {
   auto issues = MustFail(Fixture("search_rescue_domain.pddl"));
-  bool statics = false, functions = false;
-  for (const auto& i : issues) {
-    statics = statics || (i.action == "open-door" &&
-                          i.message.find("static predicate 'in-front'") != std::string::npos);
-    functions = functions ||
-                (i.action == "drive" && i.message.find("reads a function") != std::string::npos);
-  }
-  EXPECT_TRUE(statics && functions) << Issues(issues);
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].action, "drive");
+  EXPECT_EQ(issues[0].line, 18);
+  EXPECT_NE(issues[0].message.find("give the problem file"), std::string::npos) << Issues(issues);
 }
 
 TEST(PddlImportErrors, ProblemConstructs) {
   Source d = Fixture("search_rescue_domain.pddl");
   Source p = Fixture("search_rescue_problem.pddl");
+  // A timed initial literal on a predicate that actions change too.
   Source til = p;
   til.text.replace(til.text.find("(open door3)"), 12, "(at 5 (open door3))");
   auto issues = MustFail(d, til);
   ASSERT_FALSE(issues.empty());
-  EXPECT_NE(issues[0].message.find("timed initial literal"), std::string::npos) << Issues(issues);
+  EXPECT_NE(issues[0].message.find("which actions change too"), std::string::npos)
+      << Issues(issues);
   EXPECT_EQ(issues[0].line, 10);
   Source metric = p;
   metric.text.replace(metric.text.find("(total-time)"), 12, "(energy)");
   issues = MustFail(d, metric);
   ASSERT_FALSE(issues.empty());
   EXPECT_NE(issues[0].message.find("metric"), std::string::npos) << Issues(issues);
-  Source twice = p;
-  twice.text.replace(twice.text.find("(closed door1)"), 14, "(closed door1) (open door1)");
-  issues = MustFail(d, twice);
-  ASSERT_FALSE(issues.empty());
-  EXPECT_NE(issues[0].message.find("two initial values"), std::string::npos) << Issues(issues);
+  EXPECT_EQ(issues[0].line, 22);
+}
+
+// A door both closed and open in :init: closed/open are then not one variable, but two
+// true/false automata per door, both true for door 1.
+TEST(PddlImportRules, TwoInitialValuesMakeBooleans) {
+  Source p = Fixture("search_rescue_problem.pddl");
+  p.text.replace(p.text.find("(closed door1)"), 14, "(closed door1) (open door1)");
+  Imported im = MustImport(Fixture("search_rescue_domain.pddl"), p);
+  EXPECT_EQ(im.state_plan["initial_state"]["door1_closed"], "closed");
+  EXPECT_EQ(im.state_plan["initial_state"]["door1_open"], "open");
+  EXPECT_EQ(im.state_plan["initial_state"]["door2_open"], "not_open");
+}
+
+// Read fixes for IPC files: "-goods" in a typed list (TPP), and an object declared twice with two
+// types (TMS: kiln0 - kiln8, kiln0 - kiln20), which gets both, with a warning.
+TEST(PddlImportRules, DashBeforeATypeAndAnObjectWithTwoTypes) {
+  Source d{"d.pddl", R"((define (domain k) (:requirements :typing :durative-actions)
+    (:types small big - kiln piece)
+    (:predicates (ready ?k - kiln) (baked ?p -piece ?k -kiln) (raw ?p - piece))
+    (:durative-action bake-small :parameters (?p - piece ?k - small)
+      :duration (= ?duration 1) :condition (at start (raw ?p))
+      :effect (and (at start (not (raw ?p))) (at end (baked ?p ?k))))
+    (:durative-action bake-big :parameters (?p - piece ?k - big)
+      :duration (= ?duration 1) :condition (at start (raw ?p))
+      :effect (and (at start (not (raw ?p))) (at end (baked ?p ?k))))))"};
+  Source p{"p.pddl", R"((define (problem q) (:domain k)
+    (:objects k0 - small k0 - big p1 - piece) (:init (raw p1)) (:goal (baked p1 k0))))"};
+  Imported im = MustImport(d, p);
+  EXPECT_EQ(im.ground_actions, 2u);
+  ASSERT_EQ(im.warnings.size(), 1u) << Issues(im.warnings);
+  EXPECT_NE(im.warnings[0].message.find("'k0' declared again with type 'big'"), std::string::npos);
+  EXPECT_EQ(im.warnings[0].line, 2);
 }
 
 TEST(PddlImportErrors, SyntaxErrorsAreLocated) {

@@ -1,6 +1,7 @@
-// Grounding (internal to ctb_pddl): the lifted actions over the objects, each a change of one
-// ground state variable with its conditions on others and its duration; the variables with
-// their values and, with a problem, their initial values.
+// Grounding (internal to ctb_pddl): the actions over the objects, only the bindings whose
+// conditions can become true (a relaxed reachability fixpoint from :init), each as what it
+// requires of and does to each ground state variable; the variables with their values and, with
+// a problem, their initial values and timed initial literals.
 #pragma once
 
 #include <map>
@@ -13,32 +14,34 @@
 
 namespace ctb::pddl {
 
-// A ground state variable: its group and its owner objects (the first argument of the group's
-// atoms, none for 0-ary ones; every argument of a boolean group's atom).
+// A ground state variable: its group and its owner objects (the arguments at the owner
+// positions; every argument of a boolean group's atom).
 struct VarKey {
   int group = -1;
   std::vector<std::string> owner;
   auto operator<=>(const VarKey&) const = default;
 };
 
-// A value: "pred arg..." (the arguments after the owner) for a move group; for a boolean group
-// "pred" (the atom holds) or "not pred".
+// A value: "pred arg..." (the arguments outside the owner) for a multi-valued group; for a
+// boolean group "pred" (the atom holds) or "not pred". kNoValue: a multi-valued variable between
+// an at-start delete and an at-end add (none of its atoms holds).
 std::string NotValue(const std::string& pred);
+inline const std::string kNoValue = "-";
 
-struct GroundLit {
+// What one ground action requires of one variable (by When: at start, over all, at end) and the
+// value it gives it at start and at end.
+struct VarUse {
   VarKey var;
-  std::string value;
-  bool positive = true;
-  bool over_all = false;
-  std::string text;  // the lifted literal, for messages
+  std::optional<std::string> need[3];
+  std::vector<std::string> forbid[3];
+  std::optional<std::string> eff_start, eff_end;
+  bool Changes() const { return eff_start || eff_end; }
 };
 
 struct GroundAction {
   int action = -1;  // index into DomainAst::actions
   std::vector<std::string> args;
-  VarKey var;
-  std::string from, to;
-  std::vector<GroundLit> conditions;  // on other variables, at start or over all
+  std::vector<VarUse> uses;
   double lo = 0;
   std::optional<double> hi;  // nullopt: unbounded
 };
@@ -47,16 +50,18 @@ struct Variable {
   VarKey key;
   std::vector<std::string> values;  // the initial value (when known) first
   std::optional<std::string> initial;
+  std::vector<std::pair<double, std::string>> timeline;  // timed initial literals, by time
 };
 
 struct Grounded {
   std::vector<std::string> objects;  // declaration order: constants, then the problem's
   std::set<std::string> facts;       // GroundKey of every :init atom
+  std::set<std::string> timed;       // GroundKey of every atom a timed initial literal changes
   std::vector<Variable> variables;   // by group, then owner in object order
   std::vector<GroundAction> actions;
   bool has_problem = false;
 
-  // The variable and value a ground fluent atom reads; nullopt for a static predicate.
+  // The variable and value a ground fluent atom reads; nullopt for a static atom.
   std::optional<std::pair<VarKey, std::string>> Locate(const StateVars& sv, const Atom& a) const;
 };
 

@@ -90,6 +90,12 @@ struct Goal {
   Pos pos;
 };
 
+// A timed initial literal (at TIME LITERAL) of a problem's :init.
+struct Til {
+  double time = 0;
+  Literal lit;
+};
+
 struct ProblemAst {
   std::string file;
   std::string name;
@@ -98,6 +104,7 @@ struct ProblemAst {
   std::vector<TypedName> objects;
   std::vector<Atom> init;
   std::map<std::string, double> init_values;  // "f a b" -> value
+  std::vector<Til> tils;                       // in file order
   std::optional<Goal> goal;
   Pos goal_pos;
   bool minimize_total_time = false;

@@ -1,5 +1,6 @@
 // The grouping analysis (internal to ctb_pddl): which fluents form mutually exclusive state
-// variables, and what each action does to its one variable, on the lifted actions.
+// variables (multi-valued groups), which are plain true/false atoms, and which change only by
+// timed initial literals; decided on the lifted actions (and the problem's :init).
 #pragma once
 
 #include <map>
@@ -11,34 +12,31 @@
 
 namespace ctb::pddl {
 
-// Predicates that actions move between: per owner object (the first argument) exactly one atom
-// of the group holds. A *boolean* group is one predicate that actions add or delete alone: each
-// of its ground atoms is a variable of its own, true or false.
+// A group of predicates that actions move between. A multi-valued group has, per owner (the
+// arguments at each predicate's owner positions), exactly one atom true at a time: every action
+// that deletes one adds another of the same owner and requires the one it deletes. Any other
+// changed predicate is *boolean*: each ground atom is a variable of its own, true or false. A
+// *timed* group is a boolean predicate that only timed initial literals change.
 struct Group {
-  std::vector<std::string> preds;  // in declaration order
+  std::vector<std::string> preds;                // in declaration order
+  std::map<std::string, std::vector<int>> owner;  // per predicate: the owner's argument positions
   bool boolean = false;
+  bool timed = false;
   std::string name;  // the first predicate's
-};
-
-// What one action does, lifted: leaves the value `del` for `add` (a move), or for a boolean
-// group switches one atom (only `add` or only `del`; both when it re-adds what it deleted).
-struct ActionChange {
-  int group = -1;
-  std::optional<Literal> del;
-  std::optional<Literal> add;
 };
 
 struct StateVars {
   std::vector<Group> groups;
-  std::map<std::string, int> group_of;               // fluent predicate -> group
-  std::vector<std::optional<ActionChange>> changes;  // per action; nullopt: changes nothing
+  std::map<std::string, int> group_of;  // fluent predicate -> group
 
   bool IsFluent(const std::string& pred) const { return group_of.count(pred) > 0; }
 };
 
-// On error nullopt with every issue (each naming its action) appended to `issues`; warnings (an
-// action that changes nothing is left out) go to `warnings`.
-std::optional<StateVars> AnalyzeStateVars(const DomainAst& d, std::vector<Issue>& issues,
+// Never fails on the domain's own account: a predicate that cannot be one value of a group is a
+// boolean. Returns nullopt (issues appended, each located) when a timed initial literal changes a
+// predicate that actions change too.
+std::optional<StateVars> AnalyzeStateVars(const DomainAst& d, const ProblemAst* p,
+                                          std::vector<Issue>& issues,
                                           std::vector<Issue>& warnings);
 
 }  // namespace ctb::pddl

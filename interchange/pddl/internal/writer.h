@@ -10,10 +10,12 @@ namespace ctb::pddl {
 
 struct Written {
   Json domain;
-  Json state_plan;  // null without a problem
+  Json state_plan;              // null without a problem
+  std::vector<Issue> warnings;  // what was approximated (durations rounded)
+  std::vector<PlanAction> actions;
 };
 
-// On error (durations finer than a microsecond) nullopt with the issue appended.
+// On error (a goal on an unknown object, nothing to import) nullopt with the issue appended.
 std::optional<Written> WriteModel(const DomainAst& d, const StateVars& sv, const Grounded& g,
                                   const ProblemAst* p, const ImportOptions& options,
                                   std::vector<Issue>& issues);
