@@ -80,6 +80,7 @@ struct RequestOptions {
   // Contingent transitions (contract section 13): dynamic | strong | none; default: dynamic
   // where the domain has contingent transitions.
   std::optional<std::string> controllability;
+  std::optional<double> risk_bound;  // in [0, 1]
 };
 
 // A domain by name, or an inline action model (exactly one); or, from a trusted local caller (the

@@ -95,7 +95,8 @@ std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
   RequestOptions r;
   Diagnostics d;
   ObjectReader reader(options, "/options", d);
-  reader.CheckKeys({"time_limit_ms", "horizon", "max_horizon", "objective", "controllability"});
+  reader.CheckKeys({"time_limit_ms", "horizon", "max_horizon", "objective", "controllability",
+                    "risk_bound"});
   auto integer = [&](const char* k, std::optional<long>& out) {
     const Json* v = reader.Get(k);
     if (!v) return;
@@ -107,6 +108,12 @@ std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options) {
   integer("max_horizon", r.max_horizon);
   if (auto ob = reader.String("objective", false)) r.objective = *ob;
   if (auto c = reader.String("controllability", false)) r.controllability = *c;
+  if (const Json* rb = reader.Get("risk_bound")) {
+    if (!rb->is_number() || rb->get<double>() < 0 || rb->get<double>() > 1)
+      d.Error(reader.Child("risk_bound"), "must be a number between 0 and 1");
+    else
+      r.risk_bound = rb->get<double>();
+  }
   if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
   return r;
 }
@@ -165,6 +172,7 @@ std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& 
     if (c && *c != Controllability::kAuto) o.controllability = *c;
     else d.Error("/options/controllability", "must be dynamic, strong or none");
   }
+  o.risk_bound = r.risk_bound;
   if (!d.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid options", d);
   return o;
 }

@@ -16,6 +16,7 @@ namespace ctb::cli {
 namespace {
 struct SolveCliOptions {
   std::string domain, file, config_dir, objective, controllability;
+  std::optional<double> risk_bound;
   long time_limit_ms = 60000;
   std::optional<int> horizon;
   int max_horizon = 32;
@@ -82,6 +83,7 @@ int RunRemoteSolve(const SolveCliOptions& o) {
   Json options = {{"time_limit_ms", o.time_limit_ms}};
   if (!o.objective.empty()) options["objective"] = o.objective;
   if (!o.controllability.empty()) options["controllability"] = o.controllability;
+  if (o.risk_bound) options["risk_bound"] = *o.risk_bound;
   if (o.horizon) options["horizon"] = *o.horizon;
   else options["max_horizon"] = o.max_horizon;
   body["options"] = options;
@@ -124,6 +126,7 @@ int RunSolve(const SolveCliOptions& o) {
   call.state_plan = *json;
   if (!o.objective.empty()) call.options.objective = o.objective;
   if (!o.controllability.empty()) call.options.controllability = o.controllability;
+  call.options.risk_bound = o.risk_bound;
   call.options.time_limit_ms = o.time_limit_ms;
   if (o.horizon) call.options.horizon = *o.horizon;
   else call.options.max_horizon = o.max_horizon;
@@ -162,6 +165,9 @@ Runner AddSolve(CLI::App& app) {
   sub->add_option("--controllability", o->controllability,
                   "contingent transitions: dynamic (default where there are any), strong or none")
       ->check(CLI::IsMember({"dynamic", "strong", "none"}));
+  sub->add_option("--risk-bound", o->risk_bound,
+                  "accept a plan that is not controllable when it fails at most this often")
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--time-limit-ms", o->time_limit_ms, "Time limit for the whole solve")
       ->check(CLI::Range(1L, 3600L * 1000));
   auto* h = sub->add_option("--horizon", o->horizon, "Fixed number of events")

@@ -65,6 +65,7 @@ app::RequestOptions OptionsOf(const pb::Options& o) {
   if (o.has_horizon()) r.horizon = o.horizon();
   if (o.has_max_horizon()) r.max_horizon = o.max_horizon();
   if (o.has_controllability()) r.controllability = o.controllability();
+  if (o.has_risk_bound()) r.risk_bound = o.risk_bound();
   return r;
 }
 

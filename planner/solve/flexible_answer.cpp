@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "planner/flexible/dispatch.h"
 #include "planner/flexible/flexible.h"
 #include "planner/network/check.h"
 #include "planner/network/network_json.h"
@@ -23,6 +24,29 @@ Json ConflictJson(const network::Network& net, const std::vector<int>& links) {
                    {"ub", l.ub ? Json(network::SecondsFromTicks(*l.ub)) : Json()}});
   }
   return out;
+}
+
+constexpr int kRiskSamples = 2000;
+
+// Where contingent transitions carry distributions: the chance that the dispatched plan meets
+// every link. A dynamically controllable plan always does (its dispatcher never fails): 1,
+// exactly. Otherwise the plan started at its own times, estimated over kRiskSamples draws.
+std::optional<Json> SuccessProbability(const flexible::FlexiblePlan& f, const Domain& d,
+                                       const Trajectory& plan, bool dynamic) {
+  bool any = false;
+  for (const auto& a : d.automata)
+    for (const auto& t : a.transitions) any = any || (t.contingent && t.distribution);
+  if (!any) return std::nullopt;
+  if (dynamic) return Json{{"value", 1.0}, {"samples", 0}};
+  std::vector<network::Ticks> planned;
+  for (int e : f.point_event) planned.push_back(plan.events[e] * (network::kTicksPerSecond / f.tps));
+  flexible::DispatchOptions o;
+  o.dynamic = false;
+  o.sampling = flexible::Sampling::kDistribution;
+  std::mt19937 rng(1);
+  int met = 0;
+  for (int i = 0; i < kRiskSamples; ++i) met += flexible::Execute(f, d, planned, o, rng).met ? 1 : 0;
+  return Json{{"value", static_cast<double>(met) / kRiskSamples}, {"samples", kRiskSamples}};
 }
 
 }  // namespace
@@ -48,8 +72,15 @@ void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const
     asked = d.HasContingent() ? Controllability::kDynamic : Controllability::kNone;
   c["asked"] = ControllabilityName(asked);
   if (!check.dynamic) c["conflict"] = ConflictJson(f->net, check.conflict);
-  const bool met = asked == Controllability::kNone ||
-                   (asked == Controllability::kStrong ? check.strong : check.dynamic);
+  bool met = asked == Controllability::kNone ||
+             (asked == Controllability::kStrong ? check.strong : check.dynamic);
+  if (auto p = SuccessProbability(*f, d, plan, check.dynamic)) {
+    c["success_probability"] = *p;
+    if (!met && o.risk_bound && 1.0 - (*p)["value"].get<double>() <= *o.risk_bound) {
+      met = true;  // not controllable, but it fails no more often than the caller accepts
+      c["accepted_at_risk"] = *o.risk_bound;
+    }
+  }
   if (!met) {
     // A plan of another kind is no answer to the request: say which rule it breaks. The search
     // among plans stops at the first (docs/uncertainty.md), so nothing is proven: unknown.

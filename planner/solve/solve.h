@@ -59,6 +59,9 @@ struct SolveOptions {
   // duration; the others plan for the worst case (every contingent duration at its longest) and
   // report whether the plan's network is strongly and dynamically controllable.
   Controllability controllability = Controllability::kAuto;
+  // Accept a plan that is not of the asked kind when its estimated failure probability (under
+  // the contingent transitions' distributions, dispatched at its times) is at most this.
+  std::optional<double> risk_bound;
   const std::atomic<bool>* cancel = nullptr;
   // The engine that solves each model; nullptr: MiniZinc with Gecode (backend.h). Not owned.
   SolverBackend* backend = nullptr;

@@ -237,5 +237,39 @@ TEST(Uncertainty, DynamicDispatchOfAControllablePlanNeverFails) {
   EXPECT_GT(fixed_failures, 800) << "fixed times hold only when the warm-up takes 40 s (1 in 21)";
 }
 
+// Risk (contract section 13): the config/uncertain team has distributions (boot uniform, warm-up
+// normal around 30 s). The "together within 5 s" plan is not controllable: its chance of success
+// at its own times is estimated over 2,000 draws (the worst-case plan ties the two devices to one
+// moment, so it rarely holds). A risk bound of 1 accepts it (optimal, accepted_at_risk); 0 does not.
+TEST(Uncertainty, ARiskBoundAcceptsAPlanThatFailsNoMoreOftenThanAsked) {
+  Diagnostics diags;
+  auto d = LoadDomainFile(testing::ConfigDir() + "/uncertain/presentation.json", diags);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  auto j = ReadJsonFile(testing::ConfigDir() + "/uncertain/together_within_5.json", diags);
+  auto sp = LoadStatePlan(*j, *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  for (double bound : {0.0, 1.0}) {
+    SolveOptions o;
+    o.risk_bound = bound;
+    auto r = Solve(*d, *sp, o);
+    ASSERT_TRUE(std::holds_alternative<Json>(r));
+    const Json& a = std::get<Json>(r);
+    const Json& c = a["controllability"];
+    ASSERT_TRUE(c.contains("success_probability")) << c.dump();
+    EXPECT_EQ(c["success_probability"]["samples"], 2000);
+    const double p = c["success_probability"]["value"];
+    EXPECT_LT(p, 0.5);
+    EXPECT_EQ(a["status"], bound == 1.0 ? "optimal" : "unknown") << c.dump();
+    EXPECT_EQ(c.contains("accepted_at_risk"), bound == 1.0);
+  }
+  // A dynamically controllable plan succeeds always: probability 1, exactly (no samples).
+  auto j2 = ReadJsonFile(testing::ConfigDir() + "/uncertain/on_ten_then_off.json", diags);
+  auto sp2 = LoadStatePlan(*j2, *d, diags);
+  auto r2 = Solve(*d, *sp2, SolveOptions{});
+  ASSERT_TRUE(std::holds_alternative<Json>(r2));
+  EXPECT_EQ(std::get<Json>(r2)["controllability"]["success_probability"],
+            Json({{"value", 1.0}, {"samples", 0}}));
+}
+
 }  // namespace
 }  // namespace ctb
