@@ -271,5 +271,68 @@ TEST(Uncertainty, ARiskBoundAcceptsAPlanThatFailsNoMoreOftenThanAsked) {
             Json({{"value", 1.0}, {"samples", 0}}));
 }
 
+// The shipped uncertain variants (config/uncertain/): each state plan's kind derived by hand.
+//   presentation (boot 10-20 s, warm-up 20-40 s):
+//     on_within_60: turn on at 0, on at 20-40 <= 60 whatever nature does: strong, worst case 40.
+//     on_ten_then_off: off exactly 10 s after on (20-40 s): wait and react: dynamic, not strong, 50.
+//     together_within_5: the boot alone spans 10 s > 5: not controllable: unknown.
+//   search_rescue (drives to door 1: 1-3 s):
+//     rescue_at_door1: drive at 0, there at 1-3: strong, worst case 3.
+//     rescue_open_on_arrival: open door 1 within 1 s of arriving (1-3 s): react: dynamic, not
+//       strong; worst case: there at 3, opening at 3, open at 4.
+//     rescue_arrive_together: two robots' arrivals (1-3 s each) within 1 s: not controllable.
+// Every dynamically controllable one then runs 2,000 times against nature without a violation.
+TEST(Uncertainty, TheShippedUncertainVariantsAreOfTheKindsDerivedByHand) {
+  struct Case {
+    std::string domain, plan, status;
+    double worst;
+    bool strong, dynamic;
+  };
+  const std::vector<Case> cases = {
+      {"presentation", "on_within_60", "optimal", 40, true, true},
+      {"presentation", "on_ten_then_off", "optimal", 50, false, true},
+      {"presentation", "together_within_5", "unknown", 40, false, false},
+      {"search_rescue", "rescue_at_door1", "optimal", 3, true, true},
+      {"search_rescue", "rescue_open_on_arrival", "optimal", 4, false, true},
+      {"search_rescue", "rescue_arrive_together", "unknown", 3, false, false},
+  };
+  const std::string dir = testing::ConfigDir() + "/uncertain/";
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.plan);
+    Diagnostics diags;
+    auto d = LoadDomainFile(dir + c.domain + ".json", diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags);
+    auto j = ReadJsonFile(dir + c.plan + ".json", diags);
+    ASSERT_TRUE(j);
+    auto sp = LoadStatePlan(*j, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags);
+    SolveOptions o;
+    Trajectory plan;
+    o.plan_out = &plan;
+    auto r = Solve(*d, *sp, o);
+    ASSERT_TRUE(std::holds_alternative<Json>(r));
+    const Json& a = std::get<Json>(r);
+    EXPECT_EQ(a["status"], c.status) << a.dump();
+    EXPECT_EQ(a["objective"]["value"], c.worst);
+    EXPECT_EQ(a["controllability"]["strong"], c.strong);
+    EXPECT_EQ(a["controllability"]["dynamic"], c.dynamic);
+    if (!c.dynamic) {
+      EXPECT_FALSE(a["controllability"]["conflict"].empty());
+      continue;
+    }
+    auto f = flexible::DeriveNetwork(plan, *d, *sp, 1);
+    ASSERT_TRUE(f);
+    const auto planned = PlanTimes(*f, plan);
+    std::mt19937 rng(5);
+    int failures = 0;
+    for (int run = 0; run < 2000; ++run) {
+      auto e = flexible::Execute(*f, *d, planned, flexible::DispatchOptions{}, rng);
+      auto t = e.met ? flexible::ScheduleToTrajectory(*f, plan, e.times) : std::nullopt;
+      failures += t && VerifyTrajectory(*t, *d, *sp, 1).empty() ? 0 : 1;
+    }
+    EXPECT_EQ(failures, 0);
+  }
+}
+
 }  // namespace
 }  // namespace ctb
