@@ -176,6 +176,36 @@ function diffBlock(t, previousGoal) {
 
 // What the LLM read in a fault reported in words (a /replan answer's `report`): its restatement,
 // then the facts the replan took from it.
+// The plan's flexibility (contract section 13): whether it is robust, and to what, and each
+// transition's window (earliest and latest time over every schedule the network allows).
+export function flexibilityBlock(t) {
+  const c = t.controllability || {};
+  const net = t.network || {};
+  const contingent = (net.links || []).some((l) => l.kind === "contingent");
+  let robust;
+  if (c.note) robust = `No flexible plan: ${c.note}.`;
+  else if (!contingent) robust = "Every duration is the plan's own: any time within the windows below keeps the plan valid.";
+  else if (c.strong) robust = "Robust to every outcome of the uncertain durations with fixed times (strongly controllable).";
+  else if (c.dynamic) robust = "Robust to every outcome of the uncertain durations when the next steps wait for what happened (dynamically controllable, not with fixed times).";
+  else robust = "Not robust: some outcomes of the uncertain durations break it.";
+  if (c.success_probability) robust += ` Chance of success: ${Math.round(c.success_probability.value * 1000) / 10} %` +
+    (c.success_probability.samples ? ` (${c.success_probability.samples} draws).` : " (exact).");
+  const box = el("details", { class: "flexibility" });
+  box.appendChild(el("summary", {}, "Flexibility"));
+  box.appendChild(el("p", { class: "robustness" }, robust));
+  const points = new Map((net.points || []).map((p) => [p.id, p]));
+  const list = el("ul", { class: "windows", "aria-label": "Windows" });
+  for (const w of t.slack || []) {
+    const p = points.get(w.point);
+    if (!p || !p.automaton) continue;
+    const what = `${p.automaton} ${p.command || `${p.from} → ${p.to}`}${p.kind === "contingent" ? " (uncertain)" : ""}`;
+    const latest = w.latest === null ? "open" : seconds(w.latest);
+    list.appendChild(el("li", { "data-point": String(w.point) }, `${what}: ${seconds(w.earliest)} – ${latest}`));
+  }
+  box.appendChild(list);
+  return box;
+}
+
 function reportBlock(r) {
   const box = el("div", { class: "report", role: "note", "aria-label": "The report, as understood" });
   box.appendChild(el("p", { class: "report-restatement" }, `Understood: “${r.restatement || r.command}”`));
@@ -234,6 +264,7 @@ export function renderAnswer(into, data, ctx) {
   }
   if (api && canRun) attachExecution(into, t, api, ctx.execution);
   if (t.diff) into.appendChild(diffBlock(t, data.previous_goal));
+  if (t.network || t.controllability) into.appendChild(flexibilityBlock(t));
   const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);
   into.appendChild(exportsBar(data.trajectory, data.state_plan, stamp));
   if (data.reasoning) into.appendChild(details("Reasoning", data.reasoning, "reasoning"));

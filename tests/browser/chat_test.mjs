@@ -144,6 +144,11 @@ try {
       const brackets = (await turn.locator("svg.timeline .bracket-label").allTextContents()).sort();
       check(`${name}: a bracket per episode and temporal constraint, with bounds and achieved value`,
             JSON.stringify(brackets) === JSON.stringify(expected), `${JSON.stringify(brackets)} vs ${JSON.stringify(expected)}`);
+      const windows = await turn.locator(".flexibility .windows li").count();
+      check(`${name}: the flexibility block says it is robust and lists a window per transition`,
+            windows === (t.transitions || []).length && windows > 0 &&
+            /keeps the plan valid/.test(await turn.locator(".flexibility .robustness").textContent()),
+            `${windows} windows for ${(t.transitions || []).length} transitions`);
       check(`${name}: the goal marker`, typeof t.goal_reached_at !== "number" ||
             (await turn.locator("svg.timeline .goal-label").textContent()).startsWith("goal "));
       if (domain === "presentation" && i === 0) {
