@@ -108,15 +108,17 @@ class Deriver {
     f_.net.links.push_back(std::move(l));
   }
 
+  // Two points the plan had at one event stay at one event; `why` says what needs it (a tie is the
+  // derivation's, not a bound of the state plan: its why does not start with a pointer).
   void Tie(int x, int y, const std::string& why) {
     if (x == y) return;
-    AddLink(x, y, 0, Ticks{0}, false, why);
+    AddLink(x, y, 0, Ticks{0}, false, "one event in the plan, for " + why);
     f_.same_event.emplace_back(x, y);
   }
 
   void Order(int x, int y, const std::string& why) {
     if (x == y) return;
-    AddLink(x, y, 0, std::nullopt, false, why);
+    AddLink(x, y, 0, std::nullopt, false, why[0] == '/' ? why : "order kept for " + why);
     f_.before.emplace_back(x, y);
   }
 

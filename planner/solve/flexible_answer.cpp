@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include "planner/flexible/dispatch.h"
 #include "planner/flexible/flexible.h"
@@ -22,6 +23,72 @@ Json ConflictJson(const network::Network& net, const std::vector<int>& links) {
                    {"why", l.why},
                    {"lb", network::SecondsFromTicks(l.lb)},
                    {"ub", l.ub ? Json(network::SecondsFromTicks(*l.ub)) : Json()}});
+  }
+  return out;
+}
+
+// Relaxations of a conflict (contract section 13), each on this plan's network and checked
+// before it is offered: for a requirement of the state plan, the least later upper bound that
+// makes the network dynamically controllable; for a contingent duration, the widest range
+// [lo, x] (its longest outcome earlier) that does. Whole seconds; monotone, so a binary search.
+Json Relaxations(const network::Network& net, const std::vector<int>& conflict) {
+  using network::Ticks;
+  const Ticks second = network::kTicksPerSecond;
+  Ticks spread = second;
+  for (const auto& l : net.links)
+    if (l.contingent) spread += *l.ub - l.lb;
+  const Ticks steps = (spread + second - 1) / second;
+  Json out = Json::array();
+  auto seconds = [](Ticks t) { return network::SecondsFromTicks(t); };
+  for (int li : conflict) {
+    const network::Link& l = net.links[li];
+    const bool requirement = !l.contingent && !l.why.empty() && l.why[0] == '/';
+    if (!requirement && !l.contingent) continue;
+    auto dc_with = [&](Ticks lb, std::optional<Ticks> ub) {
+      network::Network n = net;
+      n.links[li].lb = lb;
+      n.links[li].ub = ub;
+      return network::IsDynamicallyControllable(n);
+    };
+    // The least k whole seconds (1..max) for which change(k) is controllable; 0 when none.
+    auto least = [&](Ticks max, const std::function<bool(Ticks)>& ok) -> Ticks {
+      if (max < 1 || !ok(max)) return 0;
+      Ticks no = 0, yes = max;
+      while (yes - no > 1) {
+        const Ticks mid = (no + yes) / 2;
+        (ok(mid) ? yes : no) = mid;
+      }
+      return yes;
+    };
+    auto offer = [&](const char* kind, Json from, Json to, const std::string& text) {
+      out.push_back({{"why", l.why}, {"kind", kind}, {"from", std::move(from)},
+                     {"to", std::move(to)}, {"text", l.why + ": " + text}});
+    };
+    if (requirement && l.ub) {  // a later upper bound
+      if (Ticks k = least(steps, [&](Ticks k) { return dc_with(l.lb, *l.ub + k * second); }))
+        offer("later_upper_bound", seconds(*l.ub), seconds(*l.ub + k * second),
+              "an upper bound of " + Json(seconds(*l.ub + k * second)).dump() + " s instead of " +
+                  Json(seconds(*l.ub)).dump() + " s");
+    }
+    if (requirement && l.lb > -spread) {  // an earlier lower bound
+      if (Ticks k = least(steps, [&](Ticks k) { return dc_with(l.lb - k * second, l.ub); }))
+        offer("earlier_lower_bound", seconds(l.lb), seconds(l.lb - k * second),
+              "a lower bound of " + Json(seconds(l.lb - k * second)).dump() + " s instead of " +
+                  Json(seconds(l.lb)).dump() + " s");
+    }
+    if (l.contingent) {  // a narrower uncertain duration, from above or from below
+      const Ticks width = (*l.ub - l.lb) / second;
+      if (Ticks k = least(width, [&](Ticks k) { return dc_with(l.lb, *l.ub - k * second); }))
+        offer("narrower_duration", Json::array({seconds(l.lb), seconds(*l.ub)}),
+              Json::array({seconds(l.lb), seconds(*l.ub - k * second)}),
+              "at most " + Json(seconds(*l.ub - k * second)).dump() + " s instead of " +
+                  Json(seconds(*l.ub)).dump() + " s");
+      if (Ticks k = least(width, [&](Ticks k) { return dc_with(l.lb + k * second, l.ub); }))
+        offer("narrower_duration", Json::array({seconds(l.lb), seconds(*l.ub)}),
+              Json::array({seconds(l.lb + k * second), seconds(*l.ub)}),
+              "at least " + Json(seconds(l.lb + k * second)).dump() + " s instead of " +
+                  Json(seconds(l.lb)).dump() + " s");
+    }
   }
   return out;
 }
@@ -71,7 +138,10 @@ void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const
   if (asked == Controllability::kAuto)
     asked = d.HasContingent() ? Controllability::kDynamic : Controllability::kNone;
   c["asked"] = ControllabilityName(asked);
-  if (!check.dynamic) c["conflict"] = ConflictJson(f->net, check.conflict);
+  if (!check.dynamic) {
+    c["conflict"] = ConflictJson(f->net, check.conflict);
+    c["relaxations"] = Relaxations(f->net, check.conflict);
+  }
   bool met = asked == Controllability::kNone ||
              (asked == Controllability::kStrong ? check.strong : check.dynamic);
   if (auto p = SuccessProbability(*f, d, plan, check.dynamic)) {

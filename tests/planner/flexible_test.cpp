@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <random>
 #include <set>
 
@@ -192,6 +193,10 @@ TEST(Uncertainty, TwoUncertainDevicesTogetherAreNotControllable) {
   int contingent = 0;
   for (const auto& l : a["controllability"]["conflict"]) contingent += l["kind"] == "contingent";
   EXPECT_GE(contingent, 1) << a["controllability"].dump();
+  // The conflict ties the two outcomes to one moment (the plan had them at one event): no bound
+  // of the state plan relaxes it, and none is offered in its name.
+  for (const auto& r : a["controllability"]["relaxations"])
+    EXPECT_TRUE(r["why"].get<std::string>().rfind("duration ", 0) == 0) << r.dump();
   Json none = SolveUncertain(d, plan, Controllability::kNone);
   ASSERT_EQ(none["status"], "optimal") << none.dump();
   EXPECT_EQ(none["objective"]["value"], 20);  // warm-up picked at 20 s, boot within it
@@ -332,6 +337,32 @@ TEST(Uncertainty, TheShippedUncertainVariantsAreOfTheKindsDerivedByHand) {
     }
     EXPECT_EQ(failures, 0);
   }
+}
+
+// Relaxations (contract section 13), each checked on the plan's network before it is offered:
+// on exactly 10 s, then off, and off at least 45 s after turning on. The worst case (on at 40,
+// off at 50) holds, but a warm-up of 20 s puts the turn-off at 30. It becomes controllable with
+// "off at least 30 s after" (20 + 10), a warm-up of at least 35 s (35 + 10 = 45), or an episode
+// allowed to last up to 25 s (the turn-off waits until 45).
+TEST(Uncertainty, RelaxationsOfAnUncontrollableRequestAreExactAndChecked) {
+  Json a = SolveUncertain(UncertainPresentation(), std::string("{") + kOff + R"(,
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "projl[i+1]==projConfirm"},
+    "constraints": {"event": {},
+      "episodes": {"OnTen": {"accepting_constraint": "projl[i]==projOn",
+        "state_constraint": "projl[i]==projOn", "lower_bound": 10, "upper_bound": 10}},
+      "temporal": {"OffAfter45": {
+        "accepting_event1_constraint": "projl[i]==projOff /\\ projl[i+1]==projWarmUp",
+        "accepting_event2_constraint": "projl[i+1]==projConfirm",
+        "lower_bound": 45, "upper_bound": 1000}}},
+    "objective": "makespan"})");
+  ASSERT_EQ(a["status"], "unknown") << a.dump();
+  EXPECT_EQ(a["controllability"]["dynamic"], false);
+  std::map<std::string, Json> found;
+  for (const auto& r : a["controllability"]["relaxations"])
+    found[r["why"].get<std::string>() + " " + r["kind"].get<std::string>()] = r["to"];
+  EXPECT_EQ(found["/constraints/temporal/OffAfter45 earlier_lower_bound"], 30) << a["controllability"].dump();
+  EXPECT_EQ(found["/constraints/episodes/OnTen later_upper_bound"], 25);
+  EXPECT_EQ(found["duration proj projWarmUp->projOn narrower_duration"], Json({35, 40}));
 }
 
 }  // namespace
