@@ -1,5 +1,6 @@
 // The temporal network of a verified trajectory (flexible.h, docs/uncertainty.md).
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <set>
@@ -55,6 +56,19 @@ class Deriver {
           if (b != d_.AutomatonIndex(a.name))
             return (why = "an automatic transition of '" + a.name + "' reads a command"), true;
       }
+    // A condition that reads an accepting automaton's state (seen at the event after it
+    // changes), a command or a fixed stage may first hold at an event where none of the automata
+    // it reads moves: its mark could not be kept by the observers.
+    std::vector<const Condition*> all = {&sp_.goal, &sp_.maintenance};
+    for (const auto& e : sp_.episodes) all.insert(all.end(), {&e.accepting, &e.state});
+    for (const auto& q : sp_.temporals) all.insert(all.end(), {&q.event1, &q.event2});
+    for (const Condition* c : all) {
+      const ExprInfo& i = c->raw_info;
+      if (!i.episodes_read.empty() || !i.temporals_read.empty())
+        return (why = c->pointer + " reads an accepting automaton"), true;
+      if (!i.commands_read.empty()) return (why = c->pointer + " reads a command"), true;
+      if (i.uses_fixed) return (why = c->pointer + " reads a fixed stage"), true;
+    }
     return false;
   }
 
@@ -116,10 +130,20 @@ class Deriver {
     f_.same_event.emplace_back(x, y);
   }
 
+  // x no later than y. Before an automatic transition that the plan had strictly later, x stays
+  // strictly earlier: an event at the very moment it is due would have to carry it.
   void Order(int x, int y, const std::string& why) {
     if (x == y) return;
-    AddLink(x, y, 0, std::nullopt, false, why[0] == '/' ? why : "order kept for " + why);
+    Ticks lb = 0;
+    if (y > 0 && Automatic(y) && t_.events[f_.point_event[x]] < t_.events[f_.point_event[y]])
+      lb = ms_per_tick_;
+    AddLink(x, y, lb, std::nullopt, false, why);
     f_.before.emplace_back(x, y);
+  }
+
+  bool Automatic(int p) const {
+    const Transition& tr = d_.automata[f_.point_automaton[p]].transitions[f_.point_transition[p]];
+    return !tr.commanded && !tr.controllable && !tr.contingent;
   }
 
   std::string TransitionName(int a, int ti) const {
@@ -141,6 +165,7 @@ class Deriver {
     if (k >= static_cast<int>(at_event_.size()) || at_event_[k].empty()) return -1;
     for (int p : at_event_[k])
       if (among.count(f_.point_automaton[p])) return p;
+    fallback_mark_ = true;  // nothing it reads moves there: rigid order (Orders)
     return at_event_[k].front();
   }
 
@@ -200,7 +225,7 @@ class Deriver {
         // Held without firing: the clock stays below lo until the guard stops holding.
         AddLink(entry, last_point, 0, lo - ms_per_tick_, false, "not yet due " + name);
       } else {
-        Pin(entry);
+        if (entry > 0) Pin(entry);
       }
     }
   }
@@ -220,6 +245,7 @@ class Deriver {
     if (cause >= 0 && t_.events[start] == te) {
       AddLink(cause, exit, 0, Ticks{0}, false, "due when its guard holds " + name);
       f_.before.emplace_back(cause, exit);
+      f_.due_after.emplace_back(cause, exit);
       return;
     }
     (void)a;
@@ -309,7 +335,9 @@ class Deriver {
     o.automata = reads;
     o.why = "/constraints/temporal/" + PointerToken(tc.name);
     auto [k1, k2] = t_.temporals[q];
-    if (p1 == p2) AddLink(0, p1, 0, std::nullopt, false, o.why);  // both at once: [0, 0] apart
+    if (p1 == p2) {  // both at one point: nothing apart; a link keeps the pointer in the network
+      if (p1 > 0) AddLink(0, p1, 0, std::nullopt, false, o.why);
+    }
     else if (k1 <= k2) AddLink(p1, p2, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     else AddLink(p2, p1, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     o.points = {p1, p2};
@@ -363,6 +391,10 @@ class Deriver {
 
   // Each observer's points in plan order: one event -> one event; else the same order.
   void Orders() {
+    if (fallback_mark_ && !f_.rigid) {
+      f_.rigid = true;
+      f_.rigid_reason = "a mark of the state plan falls where nothing its condition reads moves";
+    }
     std::vector<Observer> observers = condition_observers_;
     const int na = static_cast<int>(d_.automata.size());
     if (f_.rigid) {
@@ -397,7 +429,7 @@ class Deriver {
       const int x = pts[i - 1], y = pts[i];
       if (x == 0) continue;
       if (f_.point_event[x] == f_.point_event[y]) Tie(x, y, o.why);
-      else Order(x, y, o.why);
+      else Order(x, y, "order kept for " + o.why);
     }
   }
 
@@ -410,6 +442,7 @@ class Deriver {
   std::vector<std::vector<int>> at_event_;  // points per plan event
   std::vector<std::vector<int>> chain_;     // points per automaton, in event order
   std::vector<Observer> condition_observers_;
+  mutable bool fallback_mark_ = false;
   std::set<std::tuple<int, int, Ticks, Ticks, bool, bool>> seen_;
 };
 

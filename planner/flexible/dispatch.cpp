@@ -33,15 +33,18 @@ class Dispatcher {
     const Ticks limit = Horizon();
     while (Remaining() > 0) {
       if (t > limit) return Stop(e, "no point could be started by the plan's horizon");
-      for (std::size_t p = 1; p < n_; ++p)  // nature first: what finishes now is seen now
-        if (!done_[p] && due_[p] && *due_[p] == t) Happen(static_cast<int>(p), t);
-      bool started = true;
-      while (started) {  // a start may let another start at the same moment
-        started = false;
+      bool changed = true;
+      while (changed) {  // nature first (what finishes now is seen now), then starts, until still
+        changed = false;
+        for (std::size_t p = 1; p < n_; ++p)
+          if (!done_[p] && due_[p] && *due_[p] <= t) {
+            Happen(static_cast<int>(p), t);
+            changed = true;
+          }
         for (std::size_t p = 1; p < n_; ++p)
           if (!done_[p] && Kind(p) != PointKind::kContingent && Ready(static_cast<int>(p), t)) {
             Happen(static_cast<int>(p), t);
-            started = true;
+            changed = true;
           }
       }
       t = Next(t);
@@ -137,11 +140,11 @@ class Dispatcher {
   Ticks Next(Ticks t) const {
     Ticks soonest = network::kInfinity;
     for (std::size_t p = 1; p < n_; ++p)
-      if (!done_[p] && due_[p]) soonest = std::min(soonest, *due_[p]);
+      if (!done_[p] && due_[p] && *due_[p] > t) soonest = std::min(soonest, *due_[p]);
     if (!o_.dynamic) {
       for (std::size_t p = 1; p < n_; ++p)
         if (!done_[p] && Kind(p) != PointKind::kContingent) soonest = std::min(soonest, planned_[p]);
-    } else if (auto w = Windows(Remainder(-1, t + step_))) {
+    } else if (auto w = Windows(Remainder(-1, t))) {
       for (std::size_t p = 1; p < n_; ++p)
         if (!done_[p] && Kind(p) != PointKind::kContingent)
           soonest = std::min(soonest, (*w)[p].earliest);

@@ -44,6 +44,9 @@ struct FlexiblePlan {
   // time), and pairs whose event order must stay (first no later than second).
   std::vector<std::pair<int, int>> same_event;
   std::vector<std::pair<int, int>> before;
+  // (cause, transition): an automatic transition due when `cause` made its guard true; at one
+  // time it must be the very next event after its cause's.
+  std::vector<std::pair<int, int>> due_after;
   // The points that mark the state plan's events (0: the origin, event 0).
   std::vector<std::pair<int, int>> episode_points;   // (start, end) per episode
   std::vector<std::pair<int, int>> temporal_points;  // (event1, event2) per temporal constraint
@@ -74,8 +77,10 @@ Json SlackJson(const std::vector<Window>& windows);
 
 // A random consistent schedule (every link as a requirement): points fixed one by one in plan
 // order, each uniformly within its window given those fixed before (whole domain ticks).
-// nullopt when the network is inconsistent. For tests and simulations; O(n^2 m).
-std::optional<std::vector<network::Ticks>> SampleSchedule(const FlexiblePlan& f, std::mt19937& rng);
+// nullopt when the network is inconsistent. With `extremes`, each point at one end of its window
+// (ties between points are then common). For tests and simulations; O(n^2 m).
+std::optional<std::vector<network::Ticks>> SampleSchedule(const FlexiblePlan& f, std::mt19937& rng,
+                                                          bool extremes = false);
 
 // The trajectory of a schedule (a time per point, network ticks): events grouped so that tied
 // points share one, ordered points keep their order at one time, and each event holds all that

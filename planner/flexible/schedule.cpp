@@ -3,6 +3,8 @@
 #include <deque>
 #include <map>
 #include <numeric>
+#include <optional>
+#include <tuple>
 
 #include "planner/flexible/flexible.h"
 
@@ -102,11 +104,20 @@ class Rebuild {
     std::map<int, std::vector<int>> succ;
     std::map<int, int> indegree;
     for (int p = 1; p < n_; ++p) indegree[Find(p)] += 0;
-    for (const auto& [x, y] : f_.before) {
+    auto edge = [&](int x, int y) {
       const int gx = Find(x), gy = Find(y);
-      if (gx == gy || times_[x] != times_[y] || x == 0) continue;
+      if (gx == gy || times_[x] != times_[y] || x == 0) return;
       succ[gx].push_back(gy);
       ++indegree[gy];
+    };
+    for (const auto& [x, y] : f_.before) edge(x, y);
+    // A transition due when its cause made its guard true is the very next event after it: what
+    // must precede it at that moment (no later in the plan than the cause) precedes the cause.
+    for (const auto& [c, x] : f_.due_after) {
+      if (times_[c] != times_[x]) continue;
+      for (const auto& [z, y] : f_.before)
+        if (y == x && z != c && times_[z] == times_[x] && f_.point_event[z] <= f_.point_event[c])
+          edge(z, c);
     }
     std::deque<int> ready;
     for (const auto& [g, d] : indegree)
@@ -188,7 +199,8 @@ Json SlackJson(const std::vector<Window>& windows) {
   return out;
 }
 
-std::optional<std::vector<Ticks>> SampleSchedule(const FlexiblePlan& f, std::mt19937& rng) {
+std::optional<std::vector<Ticks>> SampleSchedule(const FlexiblePlan& f, std::mt19937& rng,
+                                                 bool extremes) {
   const Ticks step = network::kTicksPerSecond / f.tps;
   std::vector<std::pair<int, Ticks>> fixed;
   std::vector<Ticks> times(f.net.points.size(), 0);
@@ -199,7 +211,9 @@ std::optional<std::vector<Ticks>> SampleSchedule(const FlexiblePlan& f, std::mt1
     // An open window: up to a minute past its earliest time (whole domain ticks).
     const Ticks hi = (*w)[p].latest.value_or(lo + 60 * network::kTicksPerSecond);
     const Ticks steps = (hi - lo) / step;
-    times[p] = lo + step * std::uniform_int_distribution<Ticks>(0, std::max<Ticks>(0, steps))(rng);
+    const Ticks k = extremes ? (rng() % 2 ? 0 : std::max<Ticks>(0, steps))
+                             : std::uniform_int_distribution<Ticks>(0, std::max<Ticks>(0, steps))(rng);
+    times[p] = lo + step * k;
     fixed.emplace_back(static_cast<int>(p), times[p]);
   }
   if (!WindowsWith(f.net, fixed)) return std::nullopt;

@@ -1,6 +1,5 @@
 #include "planner/solve/flexible_answer.h"
 
-#include <chrono>
 #include <cmath>
 #include <functional>
 
@@ -42,7 +41,10 @@ Json Relaxations(const network::Network& net, const std::vector<int>& conflict) 
   auto seconds = [](Ticks t) { return network::SecondsFromTicks(t); };
   for (int li : conflict) {
     const network::Link& l = net.links[li];
-    const bool requirement = !l.contingent && !l.why.empty() && l.why[0] == '/';
+    // A bound of the state plan (an episode's or temporal constraint's link): its `why` is their
+    // pointer and it bounds something; the derivation's own orders and ties never are.
+    const bool requirement = !l.contingent && !l.why.empty() && l.why[0] == '/' &&
+                             (l.lb != 0 || l.ub.has_value());
     if (!requirement && !l.contingent) continue;
     auto dc_with = [&](Ticks lb, std::optional<Ticks> ub) {
       network::Network n = net;
@@ -144,7 +146,9 @@ void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const
   }
   bool met = asked == Controllability::kNone ||
              (asked == Controllability::kStrong ? check.strong : check.dynamic);
-  if (auto p = SuccessProbability(*f, d, plan, check.dynamic)) {
+  // The chance under the dispatch the asked kind means: reacting (dynamic) or fixed times (strong).
+  const bool reacting = asked != Controllability::kStrong && check.dynamic;
+  if (auto p = SuccessProbability(*f, d, plan, reacting ? true : check.strong)) {
     c["success_probability"] = *p;
     if (!met && o.risk_bound && 1.0 - (*p)["value"].get<double>() <= *o.risk_bound) {
       met = true;  // not controllable, but it fails no more often than the caller accepts
