@@ -41,8 +41,7 @@ std::variant<Prepared, std::string> Prepare(const LoadedProblem& p, const Sample
   auto f = flexible::DeriveNetwork(out.plan, p.domain, p.sp, tps, &why);
   if (!f) return why;
   out.flex = std::move(*f);
-  for (int e : out.flex.point_event)
-    out.planned.push_back(out.plan.events[e] * (network::kTicksPerSecond / tps));
+  out.planned = flexible::PlanTimes(out.flex, out.plan);
   return out;
 }
 

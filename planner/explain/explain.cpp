@@ -371,6 +371,7 @@ class Explainer {
     if (left < 50 || (so_.cancel && so_.cancel->load())) return Verdict::kUnknown;
     SolveOptions o = so_;
     o.time_limit_ms = cap_ms > 0 ? std::min(left, cap_ms) : left;
+    o.derive_network = false;  // a probe: its plan is a witness at most, never an answer
     ++calls_;
     // Feasibility needs one verified plan, not an optimum: without a witness to return, the
     // solve stops at the first plan it keeps (whole problems report each plan; the parts of a

@@ -271,9 +271,8 @@ class Deriver {
     out.insert(c.raw_info.commands_read.begin(), c.raw_info.commands_read.end());
   }
 
-  // The points marking the state plan's events, their links, and the observers they join. A
-  // condition that reads an accepting automaton (an episode's or temporal constraint's state)
-  // sees it change at that automaton's marks: they join its observer.
+  // The points marking the state plan's events, their links, and the observers they join. (A
+  // condition that reads an accepting automaton's state makes the order rigid: Rigid().)
   void Anchors() {
     std::vector<std::set<int>> ep_reads, tc_reads;
     for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
@@ -298,19 +297,8 @@ class Deriver {
     Goal();
     Observer m;
     AddReads(sp_.maintenance, m.automata);
-    AddMarksRead(sp_.maintenance, m);
     m.why = "/end_state/maintenance_constraint";
     condition_observers_.push_back(m);
-  }
-
-  // The marks of the accepting automata a condition reads join its observer.
-  void AddMarksRead(const Condition& c, Observer& o) const {
-    for (int p : c.raw_info.episodes_read)
-      for (int x : {f_.episode_points[p].first, f_.episode_points[p].second})
-        if (x > 0) o.points.push_back(x);
-    for (int q : c.raw_info.temporals_read)
-      for (int x : {f_.temporal_points[q].first, f_.temporal_points[q].second})
-        if (x > 0) o.points.push_back(x);
   }
 
   void EpisodeLinks(std::size_t p, const std::set<int>& reads) {
@@ -322,8 +310,6 @@ class Deriver {
     o.why = "/constraints/episodes/" + PointerToken(ep.name);
     AddLink(s, e, MsOf(ep.lower), MsOf(ep.upper), false, o.why);
     o.points = {s, e};
-    AddMarksRead(ep.accepting, o);
-    AddMarksRead(ep.state, o);
     condition_observers_.push_back(o);
   }
 
@@ -341,8 +327,6 @@ class Deriver {
     else if (k1 <= k2) AddLink(p1, p2, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     else AddLink(p2, p1, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     o.points = {p1, p2};
-    AddMarksRead(tc.event1, o);
-    AddMarksRead(tc.event2, o);
     condition_observers_.push_back(o);
   }
 
@@ -369,7 +353,6 @@ class Deriver {
     const int g = t_.goal_event;
     Observer o;
     AddReads(sp_.goal, o.automata);
-    AddMarksRead(sp_.goal, o);
     o.why = why;
     if (g <= 0 || at_event_[g].empty()) {
       f_.goal_point = 0;

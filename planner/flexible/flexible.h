@@ -63,6 +63,9 @@ struct FlexiblePlan {
 std::optional<FlexiblePlan> DeriveNetwork(const Trajectory& t, const Domain& d, const StatePlan& sp,
                                           long tps, std::string* why_not = nullptr);
 
+// The plan's own time of every point (network ticks): the schedule the network came from.
+std::vector<network::Ticks> PlanTimes(const FlexiblePlan& f, const Trajectory& plan);
+
 // Earliest and latest time of every point over all consistent schedules (contingent links read
 // as requirements), in network ticks; nullopt when the network is inconsistent.
 struct Window {

@@ -189,6 +189,12 @@ class Rebuild {
 
 std::optional<std::vector<Window>> Windows(const Network& net) { return WindowsWith(net, {}); }
 
+std::vector<Ticks> PlanTimes(const FlexiblePlan& f, const Trajectory& plan) {
+  std::vector<Ticks> times;
+  for (int e : f.point_event) times.push_back(plan.events[e] * (network::kTicksPerSecond / f.tps));
+  return times;
+}
+
 Json SlackJson(const std::vector<Window>& windows) {
   Json out = Json::array();
   for (std::size_t p = 1; p < windows.size(); ++p)

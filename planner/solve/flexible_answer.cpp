@@ -107,8 +107,7 @@ std::optional<Json> SuccessProbability(const flexible::FlexiblePlan& f, const Do
     for (const auto& t : a.transitions) any = any || (t.contingent && t.distribution);
   if (!any) return std::nullopt;
   if (dynamic) return Json{{"value", 1.0}, {"samples", 0}};
-  std::vector<network::Ticks> planned;
-  for (int e : f.point_event) planned.push_back(plan.events[e] * (network::kTicksPerSecond / f.tps));
+  const std::vector<network::Ticks> planned = flexible::PlanTimes(f, plan);
   flexible::DispatchOptions o;
   o.dynamic = false;
   o.sampling = flexible::Sampling::kDistribution;

@@ -277,7 +277,10 @@ std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const Solv
   if (d.HasContingent()) planning = PlanningDomain(d, o.controllability == Controllability::kNone);
   auto r = SolveFixed(planning ? *planning : d, sp, inner);
   auto* doc = std::get_if<Json>(&r);
-  if (!doc || !doc->value("verified", false)) return r;
+  if (!doc || !doc->value("verified", false) || !o.derive_network) {
+    if (doc && o.plan_out && doc->value("verified", false)) *o.plan_out = std::move(plan);
+    return r;
+  }
   solve::AddFlexibility(*doc, plan, d, sp, o);
   if (o.plan_out) *o.plan_out = std::move(plan);
   return r;

@@ -59,6 +59,9 @@ struct SolveOptions {
   // duration; the others plan for the worst case (every contingent duration at its longest) and
   // report whether the plan's network is strongly and dynamically controllable.
   Controllability controllability = Controllability::kAuto;
+  // The answer's network, slack and controllability (contract section 13). Off for the probes
+  // of a state plan's parts (the explainer), whose answers are never shown.
+  bool derive_network = true;
   // Accept a plan that is not of the asked kind when its estimated failure probability (under
   // the contingent transitions' distributions, dispatched at its times) is at most this.
   std::optional<double> risk_bound;

@@ -53,11 +53,7 @@ std::optional<Trajectory> PlanOf(const Domain& d, const StatePlan& sp) {
 
 long Tps(const Domain& d) { return std::lround(1.0 / d.time_resolution); }
 
-std::vector<Ticks> PlanTimes(const FlexiblePlan& f, const Trajectory& plan) {
-  std::vector<Ticks> times;
-  for (int e : f.point_event) times.push_back(plan.events[e] * (1000 / f.tps));
-  return times;
-}
+using flexible::PlanTimes;
 
 // Every shipped example: the network holds the plan's own times, and 80 schedules drawn from it
 // (each point uniformly in its window given the points fixed before, or at one of its ends, which
