@@ -147,7 +147,7 @@ async function save() {
     showErrors(Array.isArray(e.details) ? e.details : [], `${r.status}: ${e.message || "refused"}`);
     return;
   }
-  status(exists ? `saved ${name} (replaced)` : `saved ${name}`, "ok");
+  // "saved" is said once the page has selected the team and drawn it, never before.
   await options.onSaved(name);
   await showTeam(name);
   status(exists ? `saved ${name} (replaced)` : `saved ${name}`, "ok");
