@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "app/core_impl.h"
+#include "app/executions.h"
 #include "app/ids.h"
 #include "app/session_doc.h"
 #include "planner/model/catalog.h"
@@ -47,7 +48,9 @@ std::variant<std::map<std::string, Domain>, Error> LoadShippedDomains(const std:
 }  // namespace
 
 Core::Core(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Core::~Core() = default;
+Core::~Core() {
+  if (impl_ && impl_->executions) impl_->executions->StopAll();
+}
 
 std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
   auto impl = std::make_unique<Impl>(cfg);
@@ -73,7 +76,9 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
   SetSolverMemoryLimitMb(cfg.solver_memory_mb);
   impl->ready = MiniZincAvailable(cfg.minizinc);
   if (!impl->ready) spdlog::warn("{}", Safe("minizinc is not runnable: solves fail"));
-  return std::unique_ptr<Core>(new Core(std::move(impl)));
+  std::unique_ptr<Core> core(new Core(std::move(impl)));
+  if (auto e = OpenExecutions(*core, *core->impl_)) return *e;
+  return core;
 }
 
 std::variant<Json, Error> Core::GetSession(const std::string& id) {
@@ -106,6 +111,7 @@ bool Core::SolverReady() const { return impl_->ready; }
 
 void Core::Shutdown() {
   impl_->stopping = true;
+  if (impl_->executions) impl_->executions->StopAll();
   impl_->gate.WakeAll();
 }
 

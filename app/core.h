@@ -50,6 +50,8 @@ struct CoreConfig {
   std::string session_store;  // "" / "sqlite", "redis://host:port/db", or "memory" (CLI)
   int max_sessions = 1000;
   int session_idle_s = 1800;
+  int max_executions = 1000;           // stored at once (running and ended)
+  int execution_idle_s = 7 * 86400;    // an execution untouched this long is dropped
   bool demo = false;
   LlmConfig llm;
 };
@@ -129,6 +131,36 @@ struct ReplanCall {
   // `blocked` (translator/report.h), merged with the request's own; the answer's "report" says
   // what was understood.
   std::optional<std::string> command;
+};
+
+// Executing a plan on devices (contract section 14; app/core_execute.cpp): a session's last
+// plan, or a domain and a state plan (solved first; with `trajectory`, replanned from 0 keeping
+// as much of it as an optimal plan allows, so that what is dispatched is always a verified plan).
+struct ExecutionCall {
+  std::optional<std::string> session;
+  DomainRef domain;
+  Json state_plan;
+  Json trajectory;               // optional, without a session
+  // sim | mqtt | grpc | external (commands only as events); "": mqtt where configured, else sim.
+  std::string adapter;
+  double speed = 1;              // plan seconds per wall second (simulations run faster)
+  Json sim;                      // the sim adapter's faults: {"fail", "late", "late_by", "seed"}
+  RequestOptions options;        // for the first solve and every replan
+};
+
+// Where an adapter hears the commands of the executions it carries.
+class CommandSink {
+ public:
+  virtual ~CommandSink() = default;
+  // {"automaton", "command", "from", "to", "at"}; called on the execution's thread.
+  virtual void Send(const std::string& execution, const Json& command) = 0;
+};
+
+// One execution event (contract 14's SSE): seq counts from 1 per execution.
+struct ExecutionEvent {
+  long seq = 0;
+  std::string name;  // dispatched | reported | replanned | finished
+  Json data;
 };
 
 enum class PlanStatus { kOptimal, kFeasible, kInfeasible, kUnknown };
@@ -222,6 +254,25 @@ class Core {
   // {"consistent", "strong", "dynamic", "conflict"?, "ms"}. Located kInvalidInput errors; kTooLarge
   // beyond kMaxNetworkPoints / kMaxNetworkLinks. Runs on the calling thread (no solver, no gate).
   std::variant<Json, Error> CheckNetwork(const Json& body);
+
+  // Executions (contract section 14). Start: the new execution's id; the plan is dispatched by a
+  // thread of the core from then on. kInvalidInput for a bad call, kUnprocessable when there is
+  // no plan to execute (infeasible or none found in time).
+  std::variant<std::string, Error> StartExecution(const ExecutionCall& call, const CallContext& ctx);
+  // {"execution", "state", "now", "history", "plan", "replans", "events", ...}; kNotFound.
+  std::variant<Json, Error> GetExecution(const std::string& id);
+  // Stores a device's report ({"automaton", "location" | "failed", "time"}) before answering:
+  // {"stored": true, "duplicate": bool}. Located kInvalidInput; kConflict once it has ended.
+  std::variant<Json, Error> ReportExecution(const std::string& id, const Json& report);
+  std::optional<Error> StopExecution(const std::string& id);
+  // The events after `after` (seq), waiting up to `wait_ms` for one; `ended` once the execution
+  // has ended and every event was given. kNotFound when unknown.
+  std::variant<std::vector<ExecutionEvent>, Error> ExecutionEvents(const std::string& id, long after,
+                                                                  long wait_ms, bool* ended);
+  // The adapter that carries commands of `adapter` ("mqtt", "grpc") executions; nullptr removes.
+  // A grpc sink is per execution: `execution` names it.
+  void SetCommandSink(const std::string& adapter, std::shared_ptr<CommandSink> sink,
+                      const std::string& execution = "");
 
   // "replay" | "endpoint" | "recordings" | "none": which LLM answers /plan.
   std::string LlmMode() const;

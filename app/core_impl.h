@@ -17,6 +17,8 @@
 
 namespace ctb::app {
 
+class Executions;
+
 struct Core::Impl {
   explicit Impl(const CoreConfig& c) : cfg(c), gate(c.solver_workers, c.solver_queue, metrics) {}
 
@@ -29,6 +31,9 @@ struct Core::Impl {
   std::shared_ptr<LlmClient> demo_llm;
   std::atomic<bool> stopping{false};
   bool ready = false;
+  std::atomic<bool> mqtt_configured{false};
+  // Last: destroyed first, its threads stopped while the rest of the core still stands.
+  std::shared_ptr<Executions> executions;
 
   // A shipped or stored domain by name; kNotFound (pointer /domain) when unknown.
   std::variant<std::shared_ptr<const Domain>, Error> NamedDomain(const std::string& name) const;
@@ -54,6 +59,9 @@ struct Core::Impl {
   // The configured LLM client, else the demo recordings, else kUnavailable.
   std::variant<std::unique_ptr<LlmClient>, Error> Llm() const;
 };
+
+// Opens the execution store and resumes the executions that were running (core_execute.cpp).
+std::optional<Error> OpenExecutions(Core& core, Core::Impl& impl);
 
 // The typed view of a planner answer (Solve()'s JSON document, annotated).
 Answer AnswerFromDocument(Json doc);

@@ -48,6 +48,8 @@ class SessionStore {
   // Live sessions whose document's "domain" is `domain`; -1 when the store fails. Used to refuse
   // deleting a domain in use (contract section 12); a session created meanwhile is not seen.
   virtual long CountUsing(const std::string& domain) = 0;
+  // The ids of live documents, oldest first (executions resumed at start-up).
+  virtual std::variant<std::vector<std::string>, Error> List() = 0;
   virtual std::string Describe() const = 0;  // for the start-up log, no secrets
 };
 
@@ -56,6 +58,8 @@ struct SessionStoreConfig {
   std::string data_dir = "./data";
   long max_sessions = 1000;
   long idle_s = 1800;
+  // What the store keeps: "session" (table sessions, keys ctb:session:<id>) or "execution".
+  std::string kind = "session";
 };
 
 // Opens (and creates) the store, or an Error naming what failed.
@@ -66,8 +70,9 @@ std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const Sessio
 std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, int& port, int& db);
 
 std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_sessions, long idle_s,
-                                              std::string& error);
+                                              std::string& error, const std::string& table = "sessions");
 std::unique_ptr<SessionStore> OpenRedisStore(const std::string& host, int port, int db, long max_sessions,
-                                             long idle_s, std::string& error);
+                                             long idle_s, std::string& error,
+                                             const std::string& kind = "session");
 
 }  // namespace ctb::app

@@ -39,11 +39,11 @@ redis.call('ZADD', KEYS[2], ARGV[2], ARGV[1])
 return 1
 )";
 
-// KEYS: index; ARGV: now, idle_ms, domain. The live sessions whose doc's domain is ARGV[3].
+// KEYS: index; ARGV: now, idle_ms, domain, key prefix. The live documents whose domain is ARGV[3].
 const char* kCountUsing = R"(
 local n = 0
 for _, id in ipairs(redis.call('ZRANGEBYSCORE', KEYS[1], tonumber(ARGV[1]) - tonumber(ARGV[2]), '+inf')) do
-  local doc = redis.call('HGET', 'ctb:session:' .. id, 'doc')
+  local doc = redis.call('HGET', ARGV[4] .. id, 'doc')
   if doc then
     local ok, d = pcall(cjson.decode, doc)
     if ok and type(d) == 'table' and d['domain'] == ARGV[3] then n = n + 1 end
@@ -54,8 +54,9 @@ return n
 
 class RedisStore : public SessionStore {
  public:
-  RedisStore(std::string host, int port, int db, long max_sessions, long idle_s)
-      : conn_(std::move(host), port, db), max_(max_sessions), idle_ms_(idle_s * 1000) {}
+  RedisStore(std::string host, int port, int db, long max_sessions, long idle_s, const std::string& kind)
+      : conn_(std::move(host), port, db), prefix_("ctb:" + kind + ":"), index_("ctb:" + kind + "s"),
+        max_(max_sessions), idle_ms_(idle_s * 1000) {}
 
   bool Connect(std::string& error) { return conn_.Connect(error); }
 
@@ -83,7 +84,7 @@ class RedisStore : public SessionStore {
   StoreResult Create(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    store::Reply r(conn_.Call({"EVAL", kCreate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
+    store::Reply r(conn_.Call({"EVAL", kCreate, "2", Key(s.id), index_, s.id, std::to_string(now), std::to_string(idle_ms_),
                   std::to_string(max_), store::Dump(s.doc)}));
     if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
     if (r->integer == 0) return StoreResult::kFull;
@@ -95,7 +96,7 @@ class RedisStore : public SessionStore {
   StoreResult Update(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    store::Reply r(conn_.Call({"EVAL", kUpdate, "2", Key(s.id), kIndex, s.id, std::to_string(now), std::to_string(idle_ms_),
+    store::Reply r(conn_.Call({"EVAL", kUpdate, "2", Key(s.id), index_, s.id, std::to_string(now), std::to_string(idle_ms_),
                   std::to_string(s.version), store::Dump(s.doc)}));
     if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
     if (r->integer == -1) return StoreResult::kNotFound;
@@ -109,23 +110,34 @@ class RedisStore : public SessionStore {
     std::lock_guard<std::mutex> lock(mu_);
     store::Reply r(conn_.Call({"DEL", Key(id)}));
     if (!r || r->type != REDIS_REPLY_INTEGER) return StoreResult::kUnavailable;
-    store::Reply z(conn_.Call({"ZREM", kIndex, id}));
+    store::Reply z(conn_.Call({"ZREM", index_, id}));
     return r->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
   long Count() override {
     std::lock_guard<std::mutex> lock(mu_);
-    store::Reply d(conn_.Call({"ZREMRANGEBYSCORE", kIndex, "-inf", std::to_string(NowMs() - idle_ms_)}));
-    store::Reply r(conn_.Call({"ZCARD", kIndex}));
+    store::Reply d(conn_.Call({"ZREMRANGEBYSCORE", index_, "-inf", std::to_string(NowMs() - idle_ms_)}));
+    store::Reply r(conn_.Call({"ZCARD", index_}));
     if (!r || r->type != REDIS_REPLY_INTEGER) return -1;
     return static_cast<long>(r->integer);
   }
 
   long CountUsing(const std::string& domain) override {
     std::lock_guard<std::mutex> lock(mu_);
-    store::Reply r(conn_.Call({"EVAL", kCountUsing, "1", kIndex, std::to_string(NowMs()), std::to_string(idle_ms_), domain}));
+    store::Reply r(conn_.Call({"EVAL", kCountUsing, "1", index_, std::to_string(NowMs()), std::to_string(idle_ms_), domain, prefix_}));
     if (!r || r->type != REDIS_REPLY_INTEGER) return -1;
     return static_cast<long>(r->integer);
+  }
+
+  std::variant<std::vector<std::string>, Error> List() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    store::Reply r(conn_.Call({"ZRANGEBYSCORE", index_, std::to_string(NowMs() - idle_ms_), "+inf"}));
+    if (!r || r->type != REDIS_REPLY_ARRAY)
+      return Error{ErrorCode::kUnavailable, "the " + index_ + " store failed; retry later", {}};
+    std::vector<std::string> ids;
+    for (std::size_t i = 0; i < r->elements; ++i)
+      if (r->element[i]->type == REDIS_REPLY_STRING) ids.emplace_back(r->element[i]->str, r->element[i]->len);
+    return ids;
   }
 
   std::string Describe() const override {
@@ -133,20 +145,20 @@ class RedisStore : public SessionStore {
   }
 
  private:
-  static std::string Key(const std::string& id) { return "ctb:session:" + id; }
-  static constexpr const char* kIndex = "ctb:sessions";
+  std::string Key(const std::string& id) const { return prefix_ + id; }
 
 
   std::mutex mu_;
   store::RedisConn conn_;
+  std::string prefix_, index_;
   long max_, idle_ms_;
 };
 
 }  // namespace
 
 std::unique_ptr<SessionStore> OpenRedisStore(const std::string& host, int port, int db, long max_sessions,
-                                             long idle_s, std::string& error) {
-  auto s = std::make_unique<RedisStore>(host, port, db, max_sessions, idle_s);
+                                             long idle_s, std::string& error, const std::string& kind) {
+  auto s = std::make_unique<RedisStore>(host, port, db, max_sessions, idle_s, kind);
   if (!s->Connect(error)) return nullptr;
   return s;
 }

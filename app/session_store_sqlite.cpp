@@ -1,4 +1,5 @@
-// SQLite session store: table sessions(id, version, created_ms, updated_ms, doc), WAL mode, one
+// SQLite store of versioned documents (sessions; executions use the same store in their own
+// table): table <kind>s(id, version, created_ms, updated_ms, doc), WAL mode, one
 // connection behind a mutex. Expiry and the cap are checked inside one IMMEDIATE transaction, so
 // several processes sharing the file (not recommended; use Redis) still respect them.
 #include <sqlite3.h>
@@ -20,13 +21,13 @@ using store::Stmt;
 
 class SqliteStore : public SessionStore {
  public:
-  SqliteStore(sqlite3* db, std::string path, long max_sessions, long idle_s)
-      : db_(db), path_(std::move(path)), max_(max_sessions), idle_ms_(idle_s * 1000) {}
+  SqliteStore(sqlite3* db, std::string path, std::string table, long max_sessions, long idle_s)
+      : db_(db), path_(std::move(path)), table_(std::move(table)), max_(max_sessions), idle_ms_(idle_s * 1000) {}
   ~SqliteStore() override { sqlite3_close(db_); }
 
   std::variant<std::optional<StoredSession>, Error> Get(const std::string& id) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Stmt q(db_, "SELECT version, created_ms, updated_ms, doc FROM sessions WHERE id = ? AND updated_ms >= ?");
+    Stmt q(db_, Sql("SELECT version, created_ms, updated_ms, doc FROM {T} WHERE id = ? AND updated_ms >= ?"));
     if (!q.ok()) return Unavailable();
     q.Bind(1, id).Bind(2, NowMs() - idle_ms_);
     int rc = q.Step();
@@ -47,13 +48,13 @@ class SqliteStore : public SessionStore {
     if (!Exec("BEGIN IMMEDIATE")) return StoreResult::kUnavailable;
     const long now = NowMs();
     Expire(now);
-    Stmt count(db_, "SELECT COUNT(*) FROM sessions");
+    Stmt count(db_, Sql("SELECT COUNT(*) FROM {T}"));
     if (!count.ok() || count.Step() != SQLITE_ROW) return Rollback();
     if (count.Int(0) >= max_) {
       Exec("ROLLBACK");
       return StoreResult::kFull;
     }
-    Stmt ins(db_, "INSERT INTO sessions(id, version, created_ms, updated_ms, doc) VALUES (?, 1, ?, ?, ?)");
+    Stmt ins(db_, Sql("INSERT INTO {T}(id, version, created_ms, updated_ms, doc) VALUES (?, 1, ?, ?, ?)"));
     if (!ins.ok()) return Rollback();
     ins.Bind(1, s.id).Bind(2, now).Bind(3, now).Bind(4, Dump(s.doc));
     if (ins.Step() != SQLITE_DONE) return Rollback();
@@ -66,8 +67,8 @@ class SqliteStore : public SessionStore {
   StoreResult Update(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
-    Stmt up(db_, "UPDATE sessions SET version = version + 1, updated_ms = ?, doc = ? "
-                 "WHERE id = ? AND version = ? AND updated_ms >= ?");
+    Stmt up(db_, Sql("UPDATE {T} SET version = version + 1, updated_ms = ?, doc = ? "
+                 "WHERE id = ? AND version = ? AND updated_ms >= ?"));
     if (!up.ok()) return StoreResult::kUnavailable;
     up.Bind(1, now).Bind(2, Dump(s.doc)).Bind(3, s.id);
     up.Bind(4, s.version).Bind(5, now - idle_ms_);
@@ -77,14 +78,14 @@ class SqliteStore : public SessionStore {
       s.updated_ms = now;
       return StoreResult::kOk;
     }
-    Stmt exists(db_, "SELECT 1 FROM sessions WHERE id = ? AND updated_ms >= ?");
+    Stmt exists(db_, Sql("SELECT 1 FROM {T} WHERE id = ? AND updated_ms >= ?"));
     exists.Bind(1, s.id).Bind(2, now - idle_ms_);
     return exists.ok() && exists.Step() == SQLITE_ROW ? StoreResult::kConflict : StoreResult::kNotFound;
   }
 
   StoreResult Delete(const std::string& id) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Stmt del(db_, "DELETE FROM sessions WHERE id = ? AND updated_ms >= ?");
+    Stmt del(db_, Sql("DELETE FROM {T} WHERE id = ? AND updated_ms >= ?"));
     if (!del.ok()) return StoreResult::kUnavailable;
     del.Bind(1, id).Bind(2, NowMs() - idle_ms_);
     if (del.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
@@ -94,30 +95,47 @@ class SqliteStore : public SessionStore {
   long Count() override {
     std::lock_guard<std::mutex> lock(mu_);
     Expire(NowMs());
-    Stmt count(db_, "SELECT COUNT(*) FROM sessions");
+    Stmt count(db_, Sql("SELECT COUNT(*) FROM {T}"));
     if (!count.ok() || count.Step() != SQLITE_ROW) return -1;
     return count.Int(0);
   }
 
   long CountUsing(const std::string& domain) override {
     std::lock_guard<std::mutex> lock(mu_);
-    Stmt count(db_, "SELECT COUNT(*) FROM sessions WHERE updated_ms >= ? AND json_extract(doc, '$.domain') = ?");
+    Stmt count(db_, Sql("SELECT COUNT(*) FROM {T} WHERE updated_ms >= ? AND json_extract(doc, '$.domain') = ?"));
     if (!count.ok()) return -1;
     count.Bind(1, NowMs() - idle_ms_).Bind(2, domain);
     if (count.Step() != SQLITE_ROW) return -1;
     return count.Int(0);
   }
 
-  std::string Describe() const override { return "sqlite:" + path_; }
+  std::variant<std::vector<std::string>, Error> List() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt q(db_, Sql("SELECT id FROM {T} WHERE updated_ms >= ? ORDER BY created_ms"));
+    if (!q.ok()) return Unavailable();
+    q.Bind(1, NowMs() - idle_ms_);
+    std::vector<std::string> ids;
+    int rc;
+    while ((rc = q.Step()) == SQLITE_ROW) ids.push_back(q.Text(0));
+    if (rc != SQLITE_DONE) return Unavailable();
+    return ids;
+  }
+
+  std::string Describe() const override { return "sqlite:" + path_ + " (" + table_ + ")"; }
 
  private:
+  // The statement with {T} as this store's table.
+  std::string Sql(std::string pattern) const {
+    for (std::size_t at; (at = pattern.find("{T}")) != std::string::npos;) pattern.replace(at, 3, table_);
+    return pattern;
+  }
   bool Exec(const char* sql) { return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK; }
   StoreResult Rollback() {
     Exec("ROLLBACK");
     return StoreResult::kUnavailable;
   }
   void Expire(long now) {
-    Stmt del(db_, "DELETE FROM sessions WHERE updated_ms < ?");
+    Stmt del(db_, Sql("DELETE FROM {T} WHERE updated_ms < ?"));
     if (del.ok()) {
       del.Bind(1, now - idle_ms_);
       del.Step();
@@ -128,13 +146,14 @@ class SqliteStore : public SessionStore {
   std::mutex mu_;
   sqlite3* db_;
   std::string path_;
+  std::string table_;
   long max_, idle_ms_;
 };
 
 }  // namespace
 
 std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_sessions, long idle_s,
-                                              std::string& error) {
+                                              std::string& error, const std::string& table) {
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
                       nullptr) != SQLITE_OK) {
@@ -143,19 +162,19 @@ std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_
     return nullptr;
   }
   sqlite3_busy_timeout(db, 5000);
-  const char* setup =
+  const std::string setup =
       "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
-      "CREATE TABLE IF NOT EXISTS sessions(id TEXT PRIMARY KEY, version INTEGER NOT NULL,"
+      "CREATE TABLE IF NOT EXISTS " + table + "(id TEXT PRIMARY KEY, version INTEGER NOT NULL,"
       " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);"
-      "CREATE INDEX IF NOT EXISTS sessions_updated ON sessions(updated_ms);";
+      "CREATE INDEX IF NOT EXISTS " + table + "_updated ON " + table + "(updated_ms);";
   char* msg = nullptr;
-  if (sqlite3_exec(db, setup, nullptr, nullptr, &msg) != SQLITE_OK) {
+  if (sqlite3_exec(db, setup.c_str(), nullptr, nullptr, &msg) != SQLITE_OK) {
     error = "cannot set up the session database " + path + ": " + (msg ? msg : "?");
     sqlite3_free(msg);
     sqlite3_close(db);
     return nullptr;
   }
-  return std::make_unique<SqliteStore>(db, path, max_sessions, idle_s);
+  return std::make_unique<SqliteStore>(db, path, table, max_sessions, idle_s);
 }
 
 std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, int& port, int& db) {
@@ -186,21 +205,21 @@ std::optional<Error> ParseRedisUrl(const std::string& url, std::string& host, in
 std::variant<std::unique_ptr<SessionStore>, Error> OpenSessionStore(const SessionStoreConfig& c) {
   std::string error;
   if (c.url == "memory") {  // the CLI's local mode: sessions die with the process
-    auto s = OpenSqliteStore(":memory:", c.max_sessions, c.idle_s, error);
+    auto s = OpenSqliteStore(":memory:", c.max_sessions, c.idle_s, error, c.kind + "s");
     if (!s) return Error{ErrorCode::kUnavailable, error, {}};
     return s;
   }
   if (c.url.empty() || c.url == "sqlite") {
     std::error_code ec;
     std::filesystem::create_directories(c.data_dir, ec);
-    auto s = OpenSqliteStore(c.data_dir + "/sessions.db", c.max_sessions, c.idle_s, error);
+    auto s = OpenSqliteStore(c.data_dir + "/sessions.db", c.max_sessions, c.idle_s, error, c.kind + "s");
     if (!s) return Error{ErrorCode::kUnavailable, error, {}};
     return s;
   }
   std::string host;
   int port = 6379, db = 0;
   if (auto e = ParseRedisUrl(c.url, host, port, db)) return *e;
-  auto s = OpenRedisStore(host, port, db, c.max_sessions, c.idle_s, error);
+  auto s = OpenRedisStore(host, port, db, c.max_sessions, c.idle_s, error, c.kind);
   if (!s) return Error{ErrorCode::kUnavailable, error, {}};
   return s;
 }

@@ -380,6 +380,105 @@ class HttpFrontEnd::Impl {
   }
 
   // Contract section 12: shipped and stored domains, their diagrams, drafts from words.
+  // Executions (contract section 14).
+  void ExecutionRoutes() {
+    svr_.Post("/executions", Wrap("/executions", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      auto call = ExecutionCallOf(*body);
+      if (auto* e = std::get_if<Error>(&call)) return SendError(s, *e);
+      app::CallContext ctx;
+      ctx.request_id = s.get_header_value("X-Request-Id");
+      auto r = core_.StartExecution(std::get<app::ExecutionCall>(call), ctx);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      s.set_header("Location", "/executions/" + std::get<std::string>(r));
+      SendJson(s, 201, {{"execution", std::get<std::string>(r)}});
+    }));
+    svr_.Get(R"(/executions/([^/]{1,256}))", Wrap("/executions/{id}", [this](auto& q, auto& s) {
+      auto r = core_.GetExecution(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
+    svr_.Delete(R"(/executions/([^/]{1,256}))", Wrap("/executions/{id}", [this](auto& q, auto& s) {
+      if (auto e = core_.StopExecution(q.matches[1])) return SendError(s, *e);
+      auto r = core_.GetExecution(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, {{"execution", q.matches[1]}, {"state", std::get<Json>(r)["state"]}});
+    }));
+    svr_.Post(R"(/executions/([^/]{1,256})/reports)", Wrap("/executions/{id}/reports", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      auto r = core_.ReportExecution(q.matches[1], *body);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
+    svr_.Get(R"(/executions/([^/]{1,256})/events)", Wrap("/executions/{id}/events", [this](auto& q, auto& s) {
+      const std::string id = q.matches[1];
+      bool ended = false;
+      auto first = core_.ExecutionEvents(id, 0, 0, &ended);
+      if (auto* e = std::get_if<Error>(&first)) return SendError(s, *e);
+      long after = 0;
+      if (auto last = q.get_header_value("Last-Event-ID"); !last.empty() && last.size() < 18 &&
+          last.find_first_not_of("0123456789") == std::string::npos)
+        after = std::stol(last);
+      s.set_header("Cache-Control", "no-cache");
+      s.set_chunked_content_provider("text/event-stream", [this, id, after](size_t, httplib::DataSink& sink) mutable {
+        bool done = false;
+        auto r = core_.ExecutionEvents(id, after, 10000, &done);
+        std::string out;
+        if (auto* e = std::get_if<Error>(&r)) {
+          out = "event: error\ndata: " + Json{{"message", e->message}}.dump() + "\n\n";
+          done = true;
+        } else {
+          for (const auto& ev : std::get<std::vector<app::ExecutionEvent>>(r)) {
+            out += "id: " + std::to_string(ev.seq) + "\nevent: " + ev.name + "\ndata: " +
+                   ev.data.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n\n";
+            after = ev.seq;
+          }
+          if (out.empty() && !done) out = ": waiting\n\n";  // keeps proxies and dead peers honest
+        }
+        if (!sink.write(out.data(), out.size())) return false;
+        if (done) sink.done();
+        return true;
+      });
+    }));
+  }
+
+  // The body of POST /executions as a call; unknown or mistyped fields at their pointers.
+  static std::variant<app::ExecutionCall, Error> ExecutionCallOf(const Json& body) {
+    if (!body.is_object()) return Bad("the body must be a JSON object", "/");
+    if (auto e = CheckKeys(body, {"session", "domain", "action_model", "state_plan", "trajectory",
+                                  "adapter", "speed", "sim", "options"}))
+      return *e;
+    app::ExecutionCall call;
+    auto session = OptString(body, "session", "\"session\" must be a string");
+    if (auto* e = std::get_if<Error>(&session)) return *e;
+    call.session = std::get<std::optional<std::string>>(session);
+    auto ref = DomainOf(body);
+    if (auto* e = std::get_if<Error>(&ref)) return *e;
+    call.domain = std::get<app::DomainRef>(ref);
+    if (!call.session && !call.domain.name && !call.domain.action_model)
+      return Bad("give \"session\", or \"domain\" or \"action_model\" with \"state_plan\"", "/domain");
+    if (body.contains("state_plan")) call.state_plan = body["state_plan"];
+    if (!call.session && call.state_plan.is_null()) return Bad("missing \"state_plan\"", "/state_plan");
+    if (body.contains("trajectory")) {
+      if (!body["trajectory"].is_object()) return Bad("\"trajectory\" must be a trajectory object", "/trajectory");
+      call.trajectory = body["trajectory"];
+    }
+    auto adapter = OptString(body, "adapter", "\"adapter\" must be sim, mqtt, grpc or external");
+    if (auto* e = std::get_if<Error>(&adapter)) return *e;
+    call.adapter = std::get<std::optional<std::string>>(adapter).value_or("");
+    if (body.contains("speed")) {
+      if (!body["speed"].is_number()) return Bad("\"speed\" must be a number", "/speed");
+      call.speed = body["speed"].get<double>();
+    }
+    if (body.contains("sim")) call.sim = body["sim"];
+    auto opts = OptionsOf(body);
+    if (auto* e = std::get_if<Error>(&opts)) return *e;
+    call.options = std::get<app::RequestOptions>(opts);
+    return call;
+  }
+
   void DomainRoutes() {
     svr_.Get("/domains", Wrap("/domains", [this](auto&, auto& s) {
       auto r = core_.ListDomains();
@@ -463,6 +562,7 @@ class HttpFrontEnd::Impl {
       WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
     }));
     DomainRoutes();
+    ExecutionRoutes();
     svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) {
       auto r = core_.GetSession(q.matches[1]);
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);

@@ -1,0 +1,438 @@
+// The live executions (executions.h).
+#include "app/executions.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "app/ids.h"
+#include "app/store_common.h"
+
+namespace ctb::app {
+
+namespace {
+
+constexpr std::size_t kKeptEvents = 500;  // per execution, in the store and in GET
+
+Error Unavailable() {
+  return {ErrorCode::kUnavailable, "the execution store failed; the report was not stored: send it again", {}};
+}
+
+Error NotFound(const std::string& id) {
+  return {ErrorCode::kNotFound, "unknown execution '" + Echo(id) + "'", {}};
+}
+
+}  // namespace
+
+struct Executions::Live {
+  explicit Live(std::shared_ptr<const Domain> d) : domain(std::move(d)), run(*domain) {}
+  double Now() const { return static_cast<double>(store::NowMs() - origin_ms) * speed / 1000.0; }
+
+  std::string id;
+  std::shared_ptr<const Domain> domain;
+  StoredSession stored;  // the stored document and its version
+  exec::Run run;
+  std::optional<exec::SimTeam> sim;
+  RequestOptions options;
+  std::string adapter;
+  double speed = 1;
+  long origin_ms = 0;
+  long replans = 0;
+  std::vector<ExecutionEvent> events;
+  long seq = 0;
+  std::optional<std::string> pending_replan;
+  bool poked = false;
+  bool ended = false;
+  std::atomic<bool> cancel{false};  // a stop or a shutdown: the replan's solver is killed
+  std::atomic<bool> shutdown{false};
+  std::mutex mu;
+  std::condition_variable cv;
+  std::thread thread;
+};
+
+Executions::Executions(Core& core, std::unique_ptr<SessionStore> store)
+    : core_(core), store_(std::move(store)) {}
+
+Executions::~Executions() { StopAll(); }
+
+void Executions::StopAll() {
+  std::vector<std::shared_ptr<Live>> all;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (auto& [id, l] : live_) all.push_back(l);
+  }
+  for (auto& l : all) {
+    {
+      std::lock_guard<std::mutex> lk(l->mu);
+      l->shutdown = true;
+      l->cancel = true;
+    }
+    l->cv.notify_all();
+  }
+  for (auto& l : all)
+    if (l->thread.joinable()) l->thread.join();
+}
+
+std::shared_ptr<Executions::Live> Executions::Find(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto it = live_.find(id);
+  return it == live_.end() ? nullptr : it->second;
+}
+
+void Executions::SetSink(const std::string& adapter, std::shared_ptr<CommandSink> sink,
+                         const std::string& execution) {
+  std::lock_guard<std::mutex> lock(mu_);
+  const std::string key = execution.empty() ? adapter : adapter + ":" + execution;
+  if (sink)
+    sinks_[key] = std::move(sink);
+  else
+    sinks_.erase(key);
+}
+
+std::shared_ptr<CommandSink> Executions::SinkFor(const Live& live) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const std::string& key : {live.adapter + ":" + live.id, live.adapter}) {
+    auto it = sinks_.find(key);
+    if (it != sinks_.end()) return it->second;
+  }
+  return nullptr;
+}
+
+void Executions::Emit(Live& live, const std::string& name, Json data) {
+  live.events.push_back({++live.seq, name, std::move(data)});
+  if (live.events.size() > kKeptEvents) live.events.erase(live.events.begin());
+  live.cv.notify_all();
+}
+
+bool Executions::Persist(Live& live) {
+  Json events = Json::array();
+  for (const auto& e : live.events) events.push_back({{"seq", e.seq}, {"event", e.name}, {"data", e.data}});
+  Json& doc = live.stored.doc;
+  doc["run"] = live.run.ToJson();
+  doc["events"] = std::move(events);
+  doc["seq"] = live.seq;
+  doc["replans"] = live.replans;
+  switch (store_->Update(live.stored)) {
+    case StoreResult::kOk: return true;
+    case StoreResult::kConflict:
+      // Another replica wrote it: that one carries it now; this one lets go.
+      spdlog::warn("execution {}: changed by another process; this one stops carrying it", live.id);
+      live.shutdown = true;
+      return false;
+    default: spdlog::error("execution {}: the execution store failed", live.id); return false;
+  }
+}
+
+std::variant<exec::Applied, Error> Executions::ApplyLocked(Live& live, const exec::Report& r) {
+  exec::Run before = live.run;
+  auto applied = live.run.Apply(r, live.Now());
+  if (auto* e = std::get_if<Error>(&applied)) return *e;
+  const exec::Applied& a = std::get<exec::Applied>(applied);
+  if (a.duplicate) return a;
+  const std::size_t events = live.events.size();
+  const long seq = live.seq;
+  Emit(live, "reported", r.ToJson());
+  if (!Persist(live)) {  // not stored: as if it never came
+    live.run = std::move(before);
+    live.events.resize(events);
+    live.seq = seq;
+    return Unavailable();
+  }
+  if (a.replan && !live.pending_replan) live.pending_replan = *a.replan;
+  live.poked = true;
+  live.cv.notify_all();
+  return a;
+}
+
+void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex>& lk, const std::string& why) {
+  const double now = live->Now();
+  ReplanCall call;
+  call.domain.loaded = live->domain;
+  call.state_plan = live->stored.doc["state_plan"];
+  call.request = live->run.ReplanRequest(now);
+  call.options = live->options;
+  const std::size_t seen = live->run.history().size();
+  CallContext ctx;
+  ctx.cancelled = [l = live.get()] { return l->cancel.load(); };
+  ctx.request_id = "execution-" + live->id;
+  lk.unlock();
+  auto r = core_.Replan(call, ctx);
+  lk.lock();
+  if (live->shutdown || live->run.state() != exec::State::kRunning) return;
+  if (auto* e = std::get_if<Error>(&r)) {
+    live->run.Finish(exec::State::kFailed, "replanning failed: " + e->message);
+    return;
+  }
+  const Answer& answer = std::get<Answer>(r);
+  const Json& doc = answer.document;
+  if ((answer.status == PlanStatus::kOptimal || answer.status == PlanStatus::kFeasible) &&
+      doc.contains("network") && doc["network"].is_object()) {
+    if (auto e = live->run.Adopt(doc, now)) {
+      live->run.Finish(exec::State::kFailed, e->message);
+      return;
+    }
+    ++live->replans;
+    Emit(*live, "replanned", {{"why", why}, {"now", call.request["now"]}, {"status", doc.value("status", "")},
+                              {"objective", doc.value("objective", Json())}, {"diff", doc.value("diff", Json())}});
+    if (live->run.history().size() != seen) live->pending_replan = "reports came while replanning";
+    Persist(*live);
+    return;
+  }
+  std::string reason = "no plan was found in time after: " + why;
+  if (answer.status == PlanStatus::kInfeasible) {
+    reason = "no plan is left after: " + why;
+    const Json conflicts = doc.value("explanation", Json::object()).value("conflicts", Json::array());
+    if (!conflicts.empty() && conflicts[0].contains("text")) reason += ". " + conflicts[0]["text"].get<std::string>();
+  }
+  live->run.Finish(exec::State::kFailed, reason);
+}
+
+void Executions::Loop(std::shared_ptr<Live> live) {
+  std::unique_lock<std::mutex> lk(live->mu);
+  while (!live->shutdown && live->run.state() == exec::State::kRunning) {
+    live->poked = false;
+    const double now = live->Now();
+    bool changed = false;
+    if (live->sim)
+      for (const auto& r : live->sim->Due(live->run, now)) {
+        auto a = ApplyLocked(*live, r);
+        if (auto* e = std::get_if<Error>(&a)) spdlog::warn("execution {}: sim report refused: {}", live->id, e->message);
+        changed = true;
+      }
+    if (live->pending_replan) {
+      const std::string why = *live->pending_replan;
+      live->pending_replan.reset();
+      Replan(live, lk, why);
+      continue;
+    }
+    exec::Decision d = live->run.Advance(now);
+    for (const auto& c : d.dispatch) Emit(*live, "dispatched", c.ToJson());
+    if (!d.dispatch.empty()) {
+      Persist(*live);  // stored before sent: a restart never sends a command twice
+      if (auto sink = SinkFor(*live)) {
+        lk.unlock();
+        for (const auto& c : d.dispatch) sink->Send(live->id, c.ToJson());
+        lk.lock();
+      }
+      continue;
+    }
+    if (d.finished) break;
+    if (d.replan) {
+      Replan(live, lk, *d.replan);
+      continue;
+    }
+    if (changed) continue;
+    std::optional<double> wake = live->run.NextWake(now);
+    if (live->sim)
+      if (auto s = live->sim->NextDue(live->run, now)) wake = wake ? std::min(*wake, *s) : *s;
+    auto woken = [&] { return live->shutdown || live->poked || live->pending_replan.has_value(); };
+    if (!wake) {
+      live->cv.wait(lk, woken);
+    } else {
+      const auto at = std::chrono::system_clock::time_point(std::chrono::milliseconds(
+          live->origin_ms + static_cast<long>(std::ceil(*wake * 1000.0 / live->speed))));
+      live->cv.wait_until(lk, at, woken);
+    }
+  }
+  if (live->shutdown && live->run.state() == exec::State::kRunning) return;  // resumes at the next start
+  Emit(*live, "finished", {{"state", exec::StateName(live->run.state())}, {"why", live->run.why()}});
+  live->ended = true;
+  Persist(*live);
+  live->cv.notify_all();
+}
+
+void Executions::Launch(std::shared_ptr<Live> live) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    live_[live->id] = live;
+  }
+  live->thread = std::thread([this, live] { Loop(live); });
+}
+
+std::variant<std::string, Error> Executions::Start(std::shared_ptr<const Domain> d, Json doc, const Json& plan,
+                                                   const RequestOptions& options) {
+  auto live = std::make_shared<Live>(std::move(d));
+  if (auto e = live->run.Adopt(plan, 0)) return *e;
+  live->id = RandomHex(16);
+  live->adapter = doc.value("adapter", "sim");
+  live->speed = doc.value("speed", 1.0);
+  live->options = options;
+  // How late a report may describe its moment: the sim's are exact; devices' lag a little.
+  live->run.SetGrace(live->adapter == "sim" ? 0.0 : std::max(live->domain->time_resolution, 0.2 * live->speed));
+  if (live->adapter == "sim") {
+    Diagnostics diags;
+    auto so = exec::ParseSimOptions(doc.value("sim", Json()), "/sim", diags);
+    if (!so) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid sim options", diags);
+    live->sim.emplace(*so, live->domain->time_resolution);
+  }
+  live->origin_ms = store::NowMs();
+  doc["execution"] = live->id;
+  doc["origin_ms"] = live->origin_ms;
+  live->stored.id = live->id;
+  live->stored.doc = std::move(doc);
+  live->stored.doc["run"] = live->run.ToJson();
+  switch (store_->Create(live->stored)) {
+    case StoreResult::kOk: break;
+    case StoreResult::kFull:
+      return Error{ErrorCode::kBusy, "too many executions are stored; delete finished ones", {}};
+    default: return Error{ErrorCode::kUnavailable, "the execution store failed; retry later", {}};
+  }
+  Launch(live);
+  return live->id;
+}
+
+int Executions::Resume(
+    const std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>& domain_of) {
+  auto ids = store_->List();
+  if (auto* e = std::get_if<Error>(&ids)) {
+    spdlog::error("executions: cannot list the stored ones: {}", e->message);
+    return 0;
+  }
+  int resumed = 0;
+  for (const auto& id : std::get<std::vector<std::string>>(ids)) {
+    auto got = store_->Get(id);
+    auto* s = std::get_if<std::optional<StoredSession>>(&got);
+    if (!s || !*s || (**s).doc.value("run", Json::object()).value("state", "") != "running") continue;
+    const Json& doc = (**s).doc;
+    auto dom = domain_of(doc);
+    if (auto* e = std::get_if<Error>(&dom)) {
+      spdlog::error("execution {}: cannot resume: {}", id, e->message);
+      continue;
+    }
+    auto live = std::make_shared<Live>(std::get<std::shared_ptr<const Domain>>(dom));
+    if (auto e = live->run.FromJson(doc["run"])) {
+      spdlog::error("execution {}: cannot resume: {}", id, e->message);
+      continue;
+    }
+    auto opts = ParseRequestOptions(doc.value("options", Json::object()));
+    if (auto* o = std::get_if<RequestOptions>(&opts)) live->options = *o;
+    live->id = id;
+    live->stored = **s;
+    live->adapter = doc.value("adapter", "sim");
+    live->speed = doc.value("speed", 1.0);
+    live->origin_ms = doc.value("origin_ms", 0L);
+    live->replans = doc.value("replans", 0L);
+    live->seq = doc.value("seq", 0L);
+    for (const auto& e : doc.value("events", Json::array()))
+      live->events.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
+    if (live->adapter == "sim") {
+      Diagnostics diags;
+      auto so = exec::ParseSimOptions(doc.value("sim", Json()), "/sim", diags);
+      live->sim.emplace(so.value_or(exec::SimOptions{}), live->domain->time_resolution);
+    }
+    Launch(live);
+    ++resumed;
+  }
+  return resumed;
+}
+
+namespace {
+
+Json View(const std::string& id, const Json& doc, const Json& run, double now, const std::vector<ExecutionEvent>& events) {
+  Json ev = Json::array();
+  for (const auto& e : events) ev.push_back({{"seq", e.seq}, {"event", e.name}, {"data", e.data}});
+  Json v = {{"execution", id},
+            {"state", run.value("state", "running")},
+            {"now", now},
+            {"history", run.value("history", Json::array())},
+            {"plan", run.value("plan", Json())},
+            {"replans", doc.value("replans", 0L)},
+            {"adapter", doc.value("adapter", "sim")},
+            {"speed", doc.value("speed", 1.0)},
+            {"events", ev}};
+  if (!run.value("why", std::string()).empty()) v["why"] = run["why"];
+  if (!run.value("blocked", Json::array()).empty()) v["blocked"] = run["blocked"];
+  return v;
+}
+
+std::vector<ExecutionEvent> StoredEvents(const Json& doc) {
+  std::vector<ExecutionEvent> out;
+  for (const auto& e : doc.value("events", Json::array()))
+    out.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
+  return out;
+}
+
+}  // namespace
+
+std::variant<Json, Error> Executions::Get(const std::string& id) {
+  if (auto live = Find(id)) {
+    std::lock_guard<std::mutex> lk(live->mu);
+    Json doc = live->stored.doc;
+    doc["replans"] = live->replans;
+    return View(id, doc, live->run.ToJson(), live->Now(), live->events);
+  }
+  auto got = store_->Get(id);
+  if (auto* e = std::get_if<Error>(&got)) return *e;
+  const auto& s = std::get<std::optional<StoredSession>>(got);
+  if (!s) return NotFound(id);
+  const double now = static_cast<double>(store::NowMs() - s->doc.value("origin_ms", 0L)) *
+                     s->doc.value("speed", 1.0) / 1000.0;
+  return View(id, s->doc, s->doc.value("run", Json::object()), now, StoredEvents(s->doc));
+}
+
+std::variant<Json, Error> Executions::Report(const std::string& id, const Json& body) {
+  Diagnostics diags;
+  auto r = exec::ParseReport(body, "", diags);
+  if (!r) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid report", diags);
+  auto live = Find(id);
+  if (!live) {
+    auto got = Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    return Error{ErrorCode::kConflict, "the execution has ended (" + std::get<Json>(got).value("state", "?") + ")", {}};
+  }
+  std::lock_guard<std::mutex> lk(live->mu);
+  if (live->run.state() != exec::State::kRunning || live->shutdown)
+    return Error{ErrorCode::kConflict, std::string("the execution has ended (") + exec::StateName(live->run.state()) + ")", {}};
+  auto a = ApplyLocked(*live, *r);
+  if (auto* e = std::get_if<Error>(&a)) return *e;
+  const auto& applied = std::get<exec::Applied>(a);
+  Json out = {{"stored", true}, {"duplicate", applied.duplicate}};
+  if (applied.replan) out["replan"] = *applied.replan;
+  return out;
+}
+
+std::optional<Error> Executions::Stop(const std::string& id) {
+  auto live = Find(id);
+  if (!live) {
+    auto got = Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    return std::nullopt;  // ended already: nothing to stop
+  }
+  {
+    std::lock_guard<std::mutex> lk(live->mu);
+    if (live->run.state() == exec::State::kRunning) live->run.Finish(exec::State::kStopped, "stopped by a client");
+    live->cancel = true;
+    live->poked = true;
+  }
+  live->cv.notify_all();
+  return std::nullopt;
+}
+
+std::variant<std::vector<ExecutionEvent>, Error> Executions::Events(const std::string& id, long after,
+                                                                   long wait_ms, bool* ended) {
+  auto live = Find(id);
+  if (!live) {
+    auto got = store_->Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    const auto& s = std::get<std::optional<StoredSession>>(got);
+    if (!s) return NotFound(id);
+    std::vector<ExecutionEvent> out;
+    for (auto& e : StoredEvents(s->doc))
+      if (e.seq > after) out.push_back(e);
+    if (ended) *ended = true;
+    return out;
+  }
+  std::unique_lock<std::mutex> lk(live->mu);
+  auto any = [&] { return live->ended || live->shutdown || (!live->events.empty() && live->events.back().seq > after); };
+  live->cv.wait_for(lk, std::chrono::milliseconds(wait_ms), any);
+  std::vector<ExecutionEvent> out;
+  for (const auto& e : live->events)
+    if (e.seq > after) out.push_back(e);
+  // At shutdown the stream ends too: the client reconnects (Last-Event-ID) where it resumes.
+  if (ended) *ended = live->ended || live->shutdown;
+  return out;
+}
+
+}  // namespace ctb::app

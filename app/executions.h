@@ -1,0 +1,62 @@
+// The live executions of the core (contract section 14): one thread each that dispatches its
+// plan as the executive decides (executive/run.h), plays the sim adapter, replans through the
+// core, and writes every change to the execution store before it is acknowledged or sent.
+// Internal to app/.
+#pragma once
+
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "app/core.h"
+#include "app/session_store.h"
+#include "executive/run.h"
+#include "executive/sim.h"
+
+namespace ctb::app {
+
+class Executions {
+ public:
+  Executions(Core& core, std::unique_ptr<SessionStore> store);
+  ~Executions();  // stops every thread (executions stay stored and resume at the next start)
+
+  // Resumes the running executions of the store (at start-up); how many.
+  int Resume(const std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>& domain_of);
+
+  // A new execution of `plan` (an answer with network); the stored document's request parts in
+  // `doc` ({"domain"?, "action_model"?, "state_plan", "adapter", "speed", "sim", "options"}).
+  std::variant<std::string, Error> Start(std::shared_ptr<const Domain> d, Json doc, const Json& plan,
+                                         const RequestOptions& options);
+  std::variant<Json, Error> Get(const std::string& id);
+  std::variant<Json, Error> Report(const std::string& id, const Json& report);
+  std::optional<Error> Stop(const std::string& id);
+  std::variant<std::vector<ExecutionEvent>, Error> Events(const std::string& id, long after, long wait_ms,
+                                                         bool* ended);
+  void SetSink(const std::string& adapter, std::shared_ptr<CommandSink> sink, const std::string& execution);
+  void StopAll();
+
+ private:
+  struct Live;
+  std::shared_ptr<Live> Find(const std::string& id);
+  void Launch(std::shared_ptr<Live> live);
+  void Loop(std::shared_ptr<Live> live);
+  void Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex>& lk, const std::string& why);
+  std::variant<exec::Applied, Error> ApplyLocked(Live& live, const exec::Report& r);
+  void Emit(Live& live, const std::string& name, Json data);
+  bool Persist(Live& live);
+  std::shared_ptr<CommandSink> SinkFor(const Live& live);
+
+  Core& core_;
+  std::unique_ptr<SessionStore> store_;
+  std::mutex mu_;
+  std::map<std::string, std::shared_ptr<Live>> live_;
+  std::map<std::string, std::shared_ptr<CommandSink>> sinks_;  // by adapter, or "grpc:<id>"
+};
+
+}  // namespace ctb::app
