@@ -1,0 +1,239 @@
+// Executions (contract section 14) against the real server on loopback, with the real minizinc:
+// the sim adapter carries search_rescue to the goal; a failed move replans; bad reports are
+// refused at their pointer while the execution goes on; a repeated report changes nothing; the
+// SSE stream ends with `finished`; kill -9 mid-execution and a restart on the same data: every
+// acknowledged report is still there, no command is dispatched twice, and the run finishes.
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "harness.h"
+
+namespace ctb {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using testing::ServerProcess;
+
+Json Example(const std::string& file) {
+  return Json::parse(std::ifstream(testing::ConfigDir() + "/examples/" + file));
+}
+
+Json Post(httplib::Client& c, const std::string& path, const Json& body, int* status = nullptr) {
+  auto r = c.Post(path.c_str(), body.dump(), "application/json");
+  if (!r) {
+    ADD_FAILURE() << "no answer from POST " << path;
+    return Json();
+  }
+  if (status) *status = r->status;
+  return Json::parse(r->body, nullptr, false);
+}
+
+Json Get(httplib::Client& c, const std::string& path) {
+  auto r = c.Get(path.c_str());
+  if (!r) {
+    ADD_FAILURE() << "no answer from GET " << path;
+    return Json();
+  }
+  return Json::parse(r->body, nullptr, false);
+}
+
+// GET /executions/{id} until `done` holds or the deadline passes (generous: the machine may be
+// loaded); the last view.
+template <typename Pred>
+Json WaitFor(httplib::Client& c, const std::string& id, Pred done, int seconds = 90) {
+  const auto until = Clock::now() + std::chrono::seconds(seconds);
+  Json v;
+  while (Clock::now() < until) {
+    v = Get(c, "/executions/" + id);
+    if (done(v)) return v;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ADD_FAILURE() << "timed out; last view: " << v.dump().substr(0, 2000);
+  return v;
+}
+
+bool Ended(const Json& v) { return v.value("state", "") != "running"; }
+
+int Count(const Json& view, const std::string& event) {
+  int n = 0;
+  for (const auto& e : view["events"]) n += e["event"] == event;
+  return n;
+}
+
+Json RescueRequest(double speed, const Json& extra = Json::object()) {
+  Json body = {{"domain", "search_rescue"}, {"state_plan", Example("search_rescue/test1.json")},
+               {"speed", speed}};
+  for (const auto& [k, v] : extra.items()) body[k] = v;
+  return body;
+}
+
+TEST(Executions, TheSimCarriesAPlanToTheGoalAndTheStreamEndsWithFinished) {
+  ServerProcess server;
+  auto c = server.Client();
+  int status = 0;
+  Json started = Post(c, "/executions", RescueRequest(100, {{"adapter", "sim"}}), &status);
+  ASSERT_EQ(status, 201) << started.dump();
+  const std::string id = started["execution"];
+  Json v = WaitFor(c, id, Ended);
+  EXPECT_EQ(v["state"], "succeeded") << v.dump();
+  EXPECT_EQ(v["replans"], 0);
+  // Every transition of the plan was reported, in the history, each command dispatched once.
+  EXPECT_EQ(v["history"].size(), v["plan"]["transitions"].size());
+  std::set<std::string> sent;
+  for (const auto& e : v["events"])
+    if (e["event"] == "dispatched") EXPECT_TRUE(sent.insert(e["data"].dump()).second) << e.dump();
+  int commands = 0;
+  for (const auto& t : v["plan"]["transitions"]) commands += t["command"].is_string();
+  EXPECT_EQ(static_cast<int>(sent.size()), commands);
+  // The stream replays what happened and ends with `finished`.
+  auto sse = c.Get(("/executions/" + id + "/events").c_str());
+  ASSERT_TRUE(sse);
+  EXPECT_NE(sse->get_header_value("Content-Type").find("text/event-stream"), std::string::npos);
+  EXPECT_NE(sse->body.find("event: dispatched"), std::string::npos);
+  const auto last = sse->body.rfind("event: ");
+  EXPECT_EQ(sse->body.substr(last, 15), "event: finished") << sse->body.substr(last);
+}
+
+TEST(Executions, AFailedMoveReplansAroundItAndBadReportsAreRefusedAtTheirPointer) {
+  ServerProcess server;
+  auto c = server.Client();
+  int status = 0;
+  // External devices: this test is the team. At speed 1 nothing becomes overdue meanwhile.
+  Json started = Post(c, "/executions", RescueRequest(1, {{"adapter", "external"}}), &status);
+  ASSERT_EQ(status, 201) << started.dump();
+  const std::string id = started["execution"];
+  const std::string reports = "/executions/" + id + "/reports";
+  Json v = WaitFor(c, id, [](const Json& x) { return Count(x, "dispatched") >= 2; });
+  std::map<std::string, Json> first;  // automaton -> its first command
+  for (const auto& e : v["events"])
+    if (e["event"] == "dispatched" && !first.count(e["data"]["automaton"])) first[e["data"]["automaton"]] = e["data"];
+  ASSERT_TRUE(first.count("robot1") && first.count("robot2")) << v.dump();
+
+  struct Bad {
+    Json report;
+    std::string path;
+  };
+  const std::vector<Bad> bad = {
+      {{{"automaton", "robot9"}, {"location", "atDoor1"}, {"time", 0}}, "/automaton"},
+      {{{"automaton", "robot1"}, {"location", "onTheMoon"}, {"time", 0}}, "/location"},
+      {{{"automaton", "robot1"}, {"location", "insideRoom1"}, {"time", 0}}, "/location"},  // no such move
+      {{{"automaton", "robot1"}, {"location", first["robot1"]["to"]}, {"time", 100000}}, "/time"},
+      {{{"automaton", "robot1"}, {"failed", "fly"}, {"time", 0}}, "/failed"},
+      {{{"automaton", "robot1"}, {"time", 0}}, "/location"},
+      {{{"automaton", "robot1"}, {"location", "x"}, {"time", 0}, {"speed", 3}}, "/speed"},
+  };
+  for (const auto& b : bad) {
+    Json err = Post(c, reports, b.report, &status);
+    EXPECT_EQ(status, 400) << b.report.dump();
+    EXPECT_EQ(err["error"]["path"], b.path) << err.dump();
+  }
+  auto garbage = c.Post(reports.c_str(), "{not json", "application/json");
+  ASSERT_TRUE(garbage);
+  EXPECT_EQ(garbage->status, 400);
+
+  // robot2 moves as told, twice reported: stored once.
+  const Json done2 = {{"automaton", "robot2"}, {"location", first["robot2"]["to"]}, {"time", 0}};
+  Json ok = Post(c, reports, done2, &status);
+  EXPECT_EQ(status, 200) << ok.dump();
+  EXPECT_EQ(ok["duplicate"], false);
+  ok = Post(c, reports, done2, &status);
+  EXPECT_EQ(status, 200);
+  EXPECT_EQ(ok["duplicate"], true);
+
+  // robot1 cannot make its move: the plan goes around it.
+  const Json failed = {{"automaton", "robot1"}, {"failed", first["robot1"]["command"]}, {"time", 0}};
+  Post(c, reports, failed, &status);
+  EXPECT_EQ(status, 200);
+  v = WaitFor(c, id, [](const Json& x) { return x.value("replans", 0) >= 1 || Ended(x); });
+  EXPECT_EQ(v["state"], "running") << v.value("why", "");
+  EXPECT_EQ(v["replans"], 1);
+  ASSERT_EQ(v["blocked"].size(), 1u);
+  EXPECT_EQ(v["blocked"][0]["automaton"], "robot1");
+  EXPECT_EQ(v["history"].size(), 1u);  // robot2's move, once
+  for (const auto& t : v["plan"]["transitions"])
+    if (t["automaton"] == "robot1" && t.value("command", Json()) == first["robot1"]["command"] &&
+        !t.value("executed", false))
+      ADD_FAILURE() << "the new plan uses the blocked move again: " << t.dump();
+  Json replanned;
+  for (const auto& e : v["events"])
+    if (e["event"] == "replanned") replanned = e["data"];
+  EXPECT_NE(replanned.value("why", "").find("cannot"), std::string::npos) << replanned.dump();
+
+  auto stop = c.Delete(("/executions/" + id).c_str());
+  ASSERT_TRUE(stop);
+  EXPECT_EQ(stop->status, 200);
+  v = WaitFor(c, id, Ended);
+  EXPECT_EQ(v["state"], "stopped");
+  Post(c, reports, done2, &status);
+  EXPECT_EQ(status, 409) << "a report after the end is refused";
+}
+
+TEST(Executions, AKilledServerResumesFromTheStoreAndDispatchesNothingTwice) {
+  const std::string data = "/tmp/ctb-exec-restart-" + std::to_string(getpid());
+  std::filesystem::remove_all(data);
+  std::string id;
+  Json before;
+  {
+    ServerProcess server({}, {}, {{"CTB_DATA_DIR", data}});
+    auto c = server.Client();
+    int status = 0;
+    Json started = Post(c, "/executions", RescueRequest(3, {{"adapter", "sim"}}), &status);
+    ASSERT_EQ(status, 201) << started.dump();
+    id = started["execution"];
+    before = WaitFor(c, id, [](const Json& x) { return Count(x, "reported") >= 3 || Ended(x); });
+    ASSERT_EQ(before["state"], "running") << "too fast to kill mid-way";
+    server.Kill();
+  }
+  ServerProcess server({}, {}, {{"CTB_DATA_DIR", data}});
+  auto c = server.Client();
+  Json after = WaitFor(c, id, Ended);
+  EXPECT_EQ(after["state"], "succeeded") << after.value("why", "");
+  // Every report the first server acknowledged (its GET showed it) is still in the history.
+  std::set<std::string> history;
+  for (const auto& h : after["history"]) history.insert(h["automaton"].get<std::string>() + h["to"].get<std::string>());
+  for (const auto& h : before["history"])
+    EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
+  std::set<std::string> sent;
+  for (const auto& e : after["events"])
+    if (e["event"] == "dispatched") EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
+  EXPECT_EQ(after["history"].size(), after["plan"]["transitions"].size());
+  std::filesystem::remove_all(data);
+}
+
+TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {
+  ServerProcess server;
+  auto c = server.Client();
+  int status = 0;
+  struct Bad {
+    Json body;
+    int status;
+    std::string path;
+  };
+  const std::vector<Bad> bad = {
+      {RescueRequest(1, {{"adapter", "pigeon"}}), 400, "/adapter"},
+      {RescueRequest(0), 400, "/speed"},
+      {RescueRequest(1, {{"adapter", "external"}, {"sim", {{"fail", 0.5}}}}), 400, "/sim"},
+      {RescueRequest(1, {{"sim", {{"fail", 2}}}}), 400, "/sim/fail"},
+      {RescueRequest(1, {{"adapter", "mqtt"}}), 503, "/adapter"},
+      {{{"state_plan", Example("search_rescue/test1.json")}}, 400, "/domain"},
+      {RescueRequest(1, {{"colour", "red"}}), 400, "/colour"},
+  };
+  for (const auto& b : bad) {
+    Json err = Post(c, "/executions", b.body, &status);
+    EXPECT_EQ(status, b.status) << b.body.dump().substr(0, 200) << " -> " << err.dump();
+    EXPECT_EQ(err["error"].value("path", ""), b.path) << err.dump();
+  }
+  Json none = Post(c, "/executions", {{"domain", "search_rescue"}, {"state_plan",
+                                       Example("search_rescue/impossible_door_shut_deadline.json")}}, &status);
+  EXPECT_EQ(status, 422) << none.dump();
+  auto missing = c.Get("/executions/0123456789abcdef");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+}
+
+}  // namespace
+}  // namespace ctb
