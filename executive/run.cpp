@@ -148,7 +148,13 @@ std::optional<Error> Run::ReadPlan(const Json& plan) {
     p.from = a.LocationIndex(t.value("from", ""));
     p.to = a.LocationIndex(t.value("to", ""));
     if (p.from < 0 || p.to < 0) return Internal("the plan names a location the domain lacks");
-    if (t.contains("command") && t["command"].is_string()) p.command = t["command"];
+    // A command is sent for a transition the domain commands; the trajectory's `command` is
+    // the automaton's command at that event, which an automatic transition may share.
+    if (t.contains("command") && t["command"].is_string()) {
+      for (const auto& tr : a.transitions)
+        if (tr.from == p.from && tr.to == p.to && CommandName(a, tr) == t["command"].get<std::string>())
+          p.command = t["command"];
+    }
     if (t.value("executed", false) && t.contains("time") && t["time"].is_number())
       p.at = ToTicks(t["time"].get<double>());
     points.push_back(p);
@@ -248,13 +254,19 @@ std::string Run::Describe(int q) const {
   return a.name + " " + a.locations[p.from] + "->" + a.locations[p.to];
 }
 
+// Each point's window given what has happened (not yet the present).
+std::optional<std::vector<flexible::Window>> Run::HappenedWindows() const {
+  return flexible::Windows(Remainder(-network::kInfinity / 4));
+}
+
 std::string Run::WhyInconsistent(Ticks now) const {
-  for (std::size_t q = 1; q < points_.size(); ++q) {
+  auto w = HappenedWindows();
+  for (std::size_t q = 1; w && q < points_.size(); ++q) {
     const Point& p = points_[q];
-    if (p.at || p.sent || !slack_[q].latest) continue;
-    if (*slack_[q].latest < now - grace_)
+    if (p.at || p.sent || !(*w)[q].latest) continue;
+    if (*(*w)[q].latest < now - grace_)
       return Describe(static_cast<int>(q)) + " is overdue: due by " +
-             Json(ToSeconds(*slack_[q].latest)).dump() + " s";
+             Json(ToSeconds(*(*w)[q].latest)).dump() + " s";
   }
   return "what happened leaves no schedule for the rest of the plan";
 }
@@ -362,8 +374,11 @@ std::variant<Applied, Error> Run::Apply(const Report& r, double now_s, const std
     out.replan = a.name + " moved " + here + "->" + *r.location + ", which the plan did not have next";
     return out;
   }
+  // Inside what the network absorbs: its window given what happened before it.
+  const auto windows = HappenedWindows();
   points_[q].at = t;
-  const auto& win = slack_[q];
+  if (!windows) return out;  // already inconsistent: Advance replans
+  const auto& win = (*windows)[q];
   if (t < win.earliest - grace_ || (win.latest && t > *win.latest + grace_))
     out.replan = Describe(q) + " happened at " + Json(r.time).dump() + " s, outside its window [" +
                  Json(ToSeconds(win.earliest)).dump() + ", " +

@@ -142,6 +142,7 @@ class Run {
   network::Ticks OnGrid(double now) const;  // now, down to the domain's resolution
   std::string Describe(int q) const;
   std::string WhyInconsistent(network::Ticks now) const;
+  std::optional<std::vector<flexible::Window>> HappenedWindows() const;
 
   const Domain* d_;
   State state_ = State::kRunning;

@@ -93,8 +93,11 @@ std::vector<Report> SimTeam::Due(const Run& run, double now) {
 
 std::optional<double> SimTeam::NextDue(const Run& run, double now) {
   std::optional<double> next;
-  for (const auto& p : Pend(run))
-    if (p.at > now + 1e-9 && !given_.count(p.report.ToJson().dump())) next = next ? std::min(*next, p.at) : p.at;
+  for (const auto& p : Pend(run)) {
+    if (given_.count(p.report.ToJson().dump())) continue;
+    const double at = std::max(p.at, now);  // one that became due by what was just applied: now
+    next = next ? std::min(*next, at) : at;
+  }
   return next;
 }
 
