@@ -53,8 +53,67 @@ struct Message {
   json payload;  // null when the payload was not JSON
 };
 
+// A transition's command, "" when the device moves on its own (the plan writes null or nothing).
+std::string CommandOf(const json& t) {
+  auto it = t.find("command");
+  return it != t.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+std::string Key(const json& t) {
+  return t.value("automaton", "") + "|" + t.value("from", "") + "|" + t.value("to", "");
+}
+
+// The transitions of `plan` that no command causes, due by `now` given what happened, in plan
+// order: once every transition of an earlier event (and the commands of its own) has happened; at
+// the planned time, or later as far as what came before was late (its automaton's previous
+// transition plus the planned gap, the latest of the earlier ones). Marks them happened. `next`:
+// the soonest time one that is not due yet becomes due, if any.
+std::vector<std::pair<json, double>> DuePassive(const json& plan, double now, std::map<std::string, double>& happened,
+                                                std::optional<double>& next) {
+  std::vector<std::pair<json, double>> due;
+  next.reset();
+  const json transitions = plan.is_object() ? plan.value("transitions", json::array()) : json::array();
+  for (std::size_t i = 0; i < transitions.size(); ++i) {
+    const json& t = transitions[i];
+    if (t.value("executed", false) || !CommandOf(t).empty() || happened.count(Key(t)) ||
+        t.value("from", "") == t.value("to", ""))  // a stay, not a move: nothing to report
+      continue;
+    const double planned = t.value("time", 0.0);
+    const long event = t.value("event", 0L);
+    double at = planned;
+    bool ready = true;
+    for (std::size_t j = 0; j < transitions.size() && ready; ++j) {
+      const json& c = transitions[j];
+      const long ce = c.value("event", 0L);
+      if (!(ce < event || (ce == event && !CommandOf(c).empty()))) continue;
+      auto it = happened.find(Key(c));
+      if (it == happened.end()) {
+        ready = false;
+        break;
+      }
+      at = std::max(at, it->second);
+      if (j < i && c.value("automaton", "") == t.value("automaton", "")) {
+        bool last = true;  // the automaton's previous transition: keep the planned gap after it
+        for (std::size_t k = j + 1; k < i; ++k)
+          if (transitions[k].value("automaton", "") == t.value("automaton", "")) last = false;
+        if (last) at = std::max(at, it->second + (planned - c.value("time", 0.0)));
+      }
+    }
+    if (!ready) continue;
+    if (now >= at) {
+      due.push_back({t, at});
+      happened[Key(t)] = at;
+    } else if (!next || at < *next) {
+      next = at;
+    }
+  }
+  return due;
+}
+
 // The device side: one MQTT client that subscribes to every command and error topic, answers
-// each command at once with its transition done, and publishes what the test asks.
+// each command at once with its transition done, and (once Play() is called) a thread that
+// reports the plan's transitions without a command when their time comes, on the team's own
+// clock: it waits for the moment or for a change (a command answered, a new plan), never polls.
 class Devices {
  public:
   explicit Devices(int port) {
@@ -79,6 +138,12 @@ class Devices {
     EXPECT_EQ(mosquitto_loop_start(m_), MOSQ_ERR_SUCCESS);
   }
   ~Devices() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      stop_ = true;
+      cv_.notify_all();
+    }
+    if (player_.joinable()) player_.join();
     mosquitto_disconnect(m_);
     mosquitto_loop_stop(m_, false);
     mosquitto_destroy(m_);
@@ -97,6 +162,33 @@ class Devices {
     EXPECT_EQ(mosquitto_publish(m_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, false),
               MOSQ_ERR_SUCCESS);
   }
+  // Plays execution `id`'s passive transitions; plan time = (now - origin) * speed.
+  void Play(const std::string& id, Clock::time_point origin, double speed, std::ofstream* trace) {
+    player_ = std::thread([this, id, origin, speed, trace] {
+      std::unique_lock<std::mutex> lock(mu_);
+      while (!stop_) {
+        const double now = std::chrono::duration<double>(Clock::now() - origin).count() * speed;
+        std::optional<double> next;
+        for (const auto& [t, at] : DuePassive(plan_, now, happened_, next)) {
+          json report = {{"location", t.value("to", "")}, {"time", at}};
+          Publish("ctburton/" + id + "/" + t.value("automaton", "") + "/state", report.dump());
+          if (trace) *trace << now << " " << t.value("automaton", "") << " " << report.dump() << std::endl;
+        }
+        if (next)
+          cv_.wait_until(lock, origin + std::chrono::duration_cast<Clock::duration>(
+                                            std::chrono::duration<double>(*next / speed)));
+        else
+          cv_.wait(lock);
+      }
+    });
+  }
+  // What GET /executions/{id} says: the plan being dispatched and the history.
+  void Update(const json& view) {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& h : view.value("history", json::array())) happened_.emplace(Key(h), h.value("time", 0.0));
+    if (view.contains("plan") && view["plan"] != plan_) plan_ = view["plan"];
+    cv_.notify_all();
+  }
   std::vector<Message> commands() {
     std::lock_guard<std::mutex> lock(mu_);
     return commands_;
@@ -113,23 +205,29 @@ class Devices {
     json payload = json::parse(text, nullptr, false);
     if (payload.is_discarded()) payload = nullptr;
     const bool command = topic.size() > 8 && topic.compare(topic.size() - 8, 8, "/command") == 0;
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      (command ? commands_ : errors_).push_back({topic, payload});
-      cv_.notify_all();
-    }
+    std::lock_guard<std::mutex> lock(mu_);
+    (command ? commands_ : errors_).push_back({topic, payload});
+    cv_.notify_all();
     if (!command || !payload.is_object()) return;
     // The device does what it was told at once: the transition is done at the command's time.
     const std::string state = topic.substr(0, topic.size() - 8) + "/state";
+    const std::string automaton = topic.substr(topic.rfind('/', topic.size() - 9) + 1,
+                                               topic.size() - 8 - topic.rfind('/', topic.size() - 9) - 1);
     json report = {{"location", payload.value("to", "")}, {"time", payload.value("at", json(0))}};
     Publish(state, report.dump());
+    happened_[automaton + "|" + payload.value("from", "") + "|" + payload.value("to", "")] =
+        payload.value("at", 0.0);
   }
 
   mosquitto* m_ = nullptr;
   std::mutex mu_;
   std::condition_variable cv_;
   int subscribed_ = 0;
+  bool stop_ = false;
   std::vector<Message> commands_, errors_;
+  json plan_;
+  std::map<std::string, double> happened_;  // automaton|from|to -> when
+  std::thread player_;
 };
 
 bool WaitForLogLine(const std::string& path, const std::string& needle, long ms) {
@@ -138,51 +236,6 @@ bool WaitForLogLine(const std::string& path, const std::string& needle, long ms)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return false;
-}
-
-std::string Key(const json& t) {
-  return t.value("automaton", "") + "|" + t.value("from", "") + "|" + t.value("to", "");
-}
-
-// The transitions of the current plan that no command causes, due at `now` given what happened,
-// in plan order: once every transition of an earlier event (and the commands of its own) has
-// happened; at the planned time, or later as far as what came before was late (its automaton's
-// previous transition plus the planned gap, the latest of the earlier ones).
-std::vector<std::pair<json, double>> DuePassive(const json& view, std::map<std::string, double>& happened) {
-  std::vector<std::pair<json, double>> due;
-  const double now = view.value("now", 0.0);
-  for (const auto& h : view.value("history", json::array())) happened[Key(h)] = h.value("time", 0.0);
-  const json transitions = view.value("plan", json::object()).value("transitions", json::array());
-  for (std::size_t i = 0; i < transitions.size(); ++i) {
-    const json& t = transitions[i];
-    if (t.value("executed", false) || !t.value("command", std::string()).empty() || happened.count(Key(t))) continue;
-    const double planned = t.value("time", 0.0);
-    const long event = t.value("event", 0L);
-    double at = planned;
-    bool ready = true;
-    for (std::size_t j = 0; j < transitions.size() && ready; ++j) {
-      const json& c = transitions[j];
-      const long ce = c.value("event", 0L);
-      if (!(ce < event || (ce == event && !c.value("command", std::string()).empty()))) continue;
-      auto it = happened.find(Key(c));
-      if (it == happened.end()) {
-        ready = false;
-        break;
-      }
-      at = std::max(at, it->second);
-      if (j < i && c.value("automaton", "") == t.value("automaton", "")) {
-        bool last = true;  // the automaton's previous transition: keep the planned gap after it
-        for (std::size_t k = j + 1; k < i; ++k)
-          if (transitions[k].value("automaton", "") == t.value("automaton", "")) last = false;
-        if (last) at = std::max(at, it->second + (planned - c.value("time", 0.0)));
-      }
-    }
-    if (ready && now >= at) {
-      due.push_back({t, at});
-      happened[Key(t)] = at;
-    }
-  }
-  return due;
 }
 
 TEST(MqttExecution, DevicesOverMosquittoRunThePlanToSuccess) {
@@ -201,37 +254,46 @@ TEST(MqttExecution, DevicesOverMosquittoRunThePlanToSuccess) {
   EXPECT_NE(ReadFile(log).find(url), std::string::npos) << "the MQTT URL is logged at start-up";
 
   auto http = server.Client(30);
+  const double speed = 20;
   json body = {{"domain", "search_rescue"},
                {"state_plan", json::parse(ReadFile(SourceDir() + "/config/examples/search_rescue/test1.json"))},
                {"adapter", "mqtt"},
-               {"speed", 20}};
+               {"speed", speed}};
   auto started = http.Post("/executions", body.dump(), "application/json");
   ASSERT_TRUE(started);
   ASSERT_EQ(started->status / 100, 2) << started->body;
+  const auto answered = Clock::now();  // the execution's clock started before this
   const std::string id = json::parse(started->body).at("execution");
   const std::string base = "ctburton/" + id + "/robot1/";
 
   // Garbage, then a location robot1 lacks: both refused on the error topic; the run goes on.
   devices.Publish(base + "state", "{not json");
   devices.Publish(base + "state", R"({"location": "onTheMoon", "time": 0})");
-  ASSERT_TRUE(devices.WaitErrors(2, 10000)) << ReadFile(log);
 
-  std::map<std::string, double> happened;
+  std::ofstream trace(dir + "/reports.txt");  // what the devices reported on their own, and when
   json view;
+  bool playing = false;
   for (auto until = Clock::now() + std::chrono::seconds(60);;) {
+    const auto asked = Clock::now();
     auto got = http.Get("/executions/" + id);
     ASSERT_TRUE(got);
     ASSERT_EQ(got->status, 200) << got->body;
     view = json::parse(got->body);
+    devices.Update(view);
+    if (!playing) {  // the team's clock: the server's "now" when it was asked, not later
+      std::ofstream(dir + "/first.json") << view.dump(1);
+      const double now = view.value("now", 0.0);
+      auto origin = asked - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(now / speed));
+      devices.Play(id, std::min(origin, answered), speed, &trace);
+      playing = true;
+    }
     if (view.value("state", "") != "running") break;
     ASSERT_LT(Clock::now(), until) << "still running: " << view.dump();
-    for (const auto& [t, at] : DuePassive(view, happened)) {
-      json report = {{"location", t.value("to", "")}, {"time", at}};
-      devices.Publish("ctburton/" + id + "/" + t.value("automaton", "") + "/state", report.dump());
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // the poll's pace, not a wait
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the poll's pace, not a wait
   }
-  EXPECT_EQ(view.value("state", ""), "succeeded") << view.dump(1);
+  std::ofstream(dir + "/execution.json") << view.dump(1);
+  EXPECT_EQ(view.value("state", ""), "succeeded") << view.value("why", "") << " (" << dir << "/execution.json)";
+  ASSERT_TRUE(devices.WaitErrors(2, 10000)) << ReadFile(log);
 
   // Every dispatched command was published once, on its execution's and automaton's topic.
   std::multiset<std::string> dispatched, published;
