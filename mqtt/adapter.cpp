@@ -3,7 +3,9 @@
 #include <mosquitto.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <exception>
 #include <mutex>
@@ -65,34 +67,53 @@ Adapter::~Adapter() {
 }
 
 void Adapter::Connect(app::Core& core) {
-  std::vector<std::pair<std::string, std::string>> pending;
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    if (connected_ || stopped_) return;
-    core_ = &core;
-    connected_ = true;
-    pending.swap(pending_);
+  std::lock_guard<std::mutex> lock(mu_);
+  if (core_ || stopped_) return;
+  core_ = &core;
+  connector_ = std::thread([this] { ConnectLoop(); });
+}
+
+void Adapter::ConnectLoop() {
+  std::chrono::seconds delay(1);
+  for (bool first = true;; first = false) {
+    int rc = mosquitto_connect_async(mosq_, address_.host.c_str(), address_.port, options_.keepalive_s);
+    if (rc == MOSQ_ERR_SUCCESS) break;
+    if (first)
+      spdlog::warn("mqtt: cannot connect to {}:{} yet ({}); retrying in the background", address_.host,
+                   address_.port, rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
+    std::unique_lock<std::mutex> lock(mu_);
+    if (wake_.wait_for(lock, delay, [this] { return stopped_; })) return;
+    delay = std::min(delay * 2, std::chrono::seconds(30));
   }
-  int rc = mosquitto_connect_async(mosq_, address_.host.c_str(), address_.port, options_.keepalive_s);
-  if (rc != MOSQ_ERR_SUCCESS)
-    spdlog::warn("mqtt: cannot connect to {}:{} yet ({}); retrying in the background", address_.host,
-                 address_.port, rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
-  rc = mosquitto_loop_start(mosq_);
-  if (rc != MOSQ_ERR_SUCCESS) spdlog::error("mqtt: the network loop did not start: {}", mosquitto_strerror(rc));
-  for (auto& [topic, payload] : pending) Publish(topic, payload);
+  std::lock_guard<std::mutex> lock(mu_);
+  if (stopped_) return;
+  int rc = mosquitto_loop_start(mosq_);
+  if (rc != MOSQ_ERR_SUCCESS) {
+    spdlog::error("mqtt: the network loop did not start: {}", mosquitto_strerror(rc));
+    return;
+  }
+  looping_ = true;
+  for (auto& [topic, payload] : pending_) Publish(topic, payload);  // in the order they were sent
+  pending_.clear();
 }
 
 void Adapter::Stop() {
-  bool was_connected = false;
+  bool looping = false;
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (stopped_) return;
     stopped_ = true;
-    was_connected = connected_;
   }
-  if (!mosq_ || !was_connected) return;
-  mosquitto_disconnect(mosq_);
-  mosquitto_loop_stop(mosq_, /*force=*/false);  // the loop ends once disconnected
+  wake_.notify_all();
+  if (connector_.joinable()) connector_.join();
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    looping = looping_;
+  }
+  if (looping) {
+    mosquitto_disconnect(mosq_);
+    mosquitto_loop_stop(mosq_, /*force=*/false);  // the loop ends once disconnected
+  }
   std::lock_guard<std::mutex> lock(mu_);
   core_ = nullptr;
 }
@@ -116,7 +137,8 @@ void Adapter::Send(const std::string& execution, const Json& command) {
       spdlog::warn("mqtt: stopped; command not published to {}", Quote(topic));
       return;
     }
-    if (!connected_) {
+    if (!looping_) {
+      if (!pending_.empty() && pending_.size() >= 10000) pending_.erase(pending_.begin());  // bounded
       pending_.emplace_back(topic, text);
       return;
     }

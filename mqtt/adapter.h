@@ -20,8 +20,10 @@
 // leaves a mosquitto callback.
 #pragma once
 
+#include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <string>
 #include <utility>
 #include <variant>
@@ -76,10 +78,16 @@ class Adapter : public app::CommandSink {
   AdapterOptions options_;
   BrokerAddress address_;
   mosquitto* mosq_ = nullptr;
+  void ConnectLoop();
+
   std::mutex mu_;  // guards the fields below, and mosq_ against Stop()
+  std::condition_variable wake_;
   app::Core* core_ = nullptr;
-  bool connected_ = false;  // Connect() was called (the loop runs)
+  bool looping_ = false;  // the first connection was made and the network loop runs
   bool stopped_ = false;
+  // Until the broker first answers, libmosquitto's loop would not retry a refused connection:
+  // this thread does, backing off from 1 s to 30 s, then starts the loop (which reconnects).
+  std::thread connector_;
   std::vector<std::pair<std::string, std::string>> pending_;  // (topic, payload) sent before Connect()
 };
 

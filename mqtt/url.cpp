@@ -5,8 +5,15 @@
 namespace ctb::mqtt {
 
 std::variant<BrokerAddress, std::string> ParseMqttUrl(const std::string& url) {
+  // The URL as it may be shown: a password in it is never echoed.
+  std::string shown = url;
+  if (auto at = shown.find('@'); at != std::string::npos) {
+    auto start = shown.find("://");
+    start = start == std::string::npos ? 0 : start + 3;
+    if (start <= at) shown.replace(start, at - start, "***");
+  }
   auto bad = [&](const std::string& why) {
-    return "invalid MQTT URL '" + url + "': " + why + " (expected mqtt://host[:port], e.g. mqtt://127.0.0.1:1883)";
+    return "invalid MQTT URL '" + shown + "': " + why + " (expected mqtt://host[:port], e.g. mqtt://127.0.0.1:1883)";
   };
   const std::string scheme = "mqtt://";
   if (url.rfind(scheme, 0) != 0) {

@@ -52,6 +52,15 @@ bool IsLoopback(const std::string& host) {
 }  // namespace
 
 int Serve(const ServerConfig& cfg) {
+  // Signals: a dedicated thread waits for them (no work in a signal handler). Blocked first, so
+  // that every thread started from here on (the MQTT adapter's, resumed executions') inherits
+  // the mask and a SIGTERM drains instead of killing the process.
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
   std::unique_ptr<app::ApiKeys> keys;
   if (!cfg.api_keys_file.empty()) {
     auto k = app::ApiKeys::Load(cfg.api_keys_file);
@@ -101,13 +110,6 @@ int Serve(const ServerConfig& cfg) {
     mqtt_adapter->Connect(*core);
   }
   HttpFrontEnd http(cfg, *core, keys.get());
-  // Signals: a dedicated thread waits for them (no work in a signal handler).
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGHUP);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);
   const int port = http.Bind();
   if (port < 0) {
     spdlog::error("{}", Safe("cannot listen on " + cfg.host + ":" + std::to_string(cfg.port)));
