@@ -320,6 +320,7 @@ TEST(MqttExecution, DevicesOverMosquittoRunThePlanToSuccess) {
   EXPECT_NE(text.find("refused: the payload is not JSON"), std::string::npos) << text;
   EXPECT_NE(text.find("onTheMoon"), std::string::npos) << "the unknown location is logged: " << text;
   EXPECT_TRUE(server.Alive());
+  EXPECT_EQ(server.Stop(10000), 0) << "SIGTERM drains and stops the adapter: " << ReadFile(log);
   std::printf("mqtt execution test: %.1f s wall\n",
               std::chrono::duration<double>(Clock::now() - t0).count());
 }
