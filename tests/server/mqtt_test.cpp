@@ -116,7 +116,8 @@ std::vector<std::pair<json, double>> DuePassive(const json& plan, double now, st
 // clock: it waits for the moment or for a change (a command answered, a new plan), never polls.
 class Devices {
  public:
-  explicit Devices(int port) {
+  // answer: reply to every command with its transition done (false: only record them).
+  explicit Devices(int port, bool answer = true) : answer_(answer) {
     mosquitto_lib_init();
     m_ = mosquitto_new(("ctb-test-devices-" + std::to_string(getpid())).c_str(), true, this);
     mosquitto_connect_callback_set(m_, [](mosquitto* m, void*, int rc) {
@@ -149,6 +150,10 @@ class Devices {
     mosquitto_destroy(m_);
   }
 
+  bool WaitCommands(std::size_t n, long ms) {
+    std::unique_lock<std::mutex> lock(mu_);
+    return cv_.wait_for(lock, std::chrono::milliseconds(ms), [&] { return commands_.size() >= n; });
+  }
   bool WaitSubscribed(long ms) {
     std::unique_lock<std::mutex> lock(mu_);
     return cv_.wait_for(lock, std::chrono::milliseconds(ms), [&] { return subscribed_ >= 2; });
@@ -208,7 +213,7 @@ class Devices {
     std::lock_guard<std::mutex> lock(mu_);
     (command ? commands_ : errors_).push_back({topic, payload});
     cv_.notify_all();
-    if (!command || !payload.is_object()) return;
+    if (!command || !payload.is_object() || !answer_) return;
     // The device does what it was told at once: the transition is done at the command's time.
     const std::string state = topic.substr(0, topic.size() - 8) + "/state";
     const std::string automaton = topic.substr(topic.rfind('/', topic.size() - 9) + 1,
@@ -219,6 +224,7 @@ class Devices {
         payload.value("at", 0.0);
   }
 
+  const bool answer_;
   mosquitto* m_ = nullptr;
   std::mutex mu_;
   std::condition_variable cv_;
@@ -323,6 +329,57 @@ TEST(MqttExecution, DevicesOverMosquittoRunThePlanToSuccess) {
   EXPECT_EQ(server.Stop(10000), 0) << "SIGTERM drains and stops the adapter: " << ReadFile(log);
   std::printf("mqtt execution test: %.1f s wall\n",
               std::chrono::duration<double>(Clock::now() - t0).count());
+}
+
+// Contract 14, precisely: the server's subscription is a persistent session, so a report
+// published while it is down is delivered when it is back (same client id), to the execution it
+// resumed from the store.
+TEST(MqttExecution, AReportPublishedWhileTheServerIsDownIsStoredWhenItIsBack) {
+  const std::string dir = TempDir("mqtt-restart");
+  Broker broker(dir);
+  Devices devices(broker.port(), /*answer=*/false);
+  ASSERT_TRUE(devices.WaitSubscribed(10000));
+  const std::vector<std::string> args = {"--mqtt-url", "mqtt://127.0.0.1:" + std::to_string(broker.port()),
+                                         "--mqtt-client-id", "ctb-test-restart-" + std::to_string(getpid()),
+                                         "--data-dir", dir + "/data"};
+  std::string id;
+  {
+    ServerProcess server(json::object(), args, {}, dir + "/server1.log");
+    ASSERT_TRUE(WaitForLogLine(dir + "/server1.log", "subscribed to ctburton/+/+/state", 10000));
+    json body = {{"domain", "search_rescue"},
+                 {"state_plan", json::parse(ReadFile(SourceDir() + "/config/examples/search_rescue/test1.json"))},
+                 {"adapter", "mqtt"},
+                 {"speed", 1}};
+    auto started = server.Client(30).Post("/executions", body.dump(), "application/json");
+    ASSERT_TRUE(started);
+    ASSERT_EQ(started->status / 100, 2) << started->body;
+    id = json::parse(started->body).at("execution");
+    ASSERT_TRUE(devices.WaitCommands(1, 10000)) << "no command came";
+    ASSERT_EQ(server.Stop(10000), 0);
+  }
+  // The first command's move, done while no server listens.
+  const json first = devices.commands().front().payload;
+  const std::string topic = devices.commands().front().topic;
+  const std::string automaton = topic.substr(topic.find('/', 9) + 1, topic.rfind('/') - topic.find('/', 9) - 1);
+  devices.Publish(topic.substr(0, topic.rfind('/')) + "/state",
+                  json({{"location", first.at("to")}, {"time", first.at("at")}}).dump());
+
+  ServerProcess server(json::object(), args, {}, dir + "/server2.log");
+  auto http = server.Client(30);
+  json view;
+  bool stored = false;
+  for (auto until = Clock::now() + std::chrono::seconds(20); !stored && Clock::now() < until;) {
+    auto got = http.Get("/executions/" + id);
+    ASSERT_TRUE(got);
+    ASSERT_EQ(got->status, 200) << got->body;
+    view = json::parse(got->body);
+    for (const auto& h : view.value("history", json::array()))
+      stored = stored || (h.value("automaton", "") == automaton && h.value("to", "") == first.value("to", ""));
+    if (!stored) std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the poll's pace
+  }
+  EXPECT_TRUE(stored) << view.dump(1) << ReadFile(dir + "/server2.log");
+  EXPECT_EQ(view.value("state", ""), "running") << view.dump(1);
+  EXPECT_EQ(server.Stop(10000), 0);
 }
 
 }  // namespace
