@@ -64,7 +64,7 @@ std::string Key(const json& t) {
 }
 
 // The transitions of `plan` that no command causes, due by `now` given what happened, in plan
-// order: once every transition of an earlier event (and the commands of its own) has happened; at
+// order: once every transition of an earlier event has happened (what its guard reads); at
 // the planned time, or later as far as what came before was late (its automaton's previous
 // transition plus the planned gap, the latest of the earlier ones). Marks them happened. `next`:
 // the soonest time one that is not due yet becomes due, if any.
@@ -85,7 +85,7 @@ std::vector<std::pair<json, double>> DuePassive(const json& plan, double now, st
     for (std::size_t j = 0; j < transitions.size() && ready; ++j) {
       const json& c = transitions[j];
       const long ce = c.value("event", 0L);
-      if (!(ce < event || (ce == event && !CommandOf(c).empty()))) continue;
+      if (ce >= event) continue;  // a guard reads the stage before its event: causes come earlier
       auto it = happened.find(Key(c));
       if (it == happened.end()) {
         ready = false;
