@@ -34,6 +34,8 @@
 
 namespace ctb::app {
 
+class CommandSink;
+
 struct CoreConfig {
   std::string config_dir;      // shipped domains: <config_dir>/domains/*.json
   std::string prompts_dir;
@@ -54,6 +56,9 @@ struct CoreConfig {
   int execution_idle_s = 7 * 86400;    // an execution untouched this long is dropped
   bool demo = false;
   LlmConfig llm;
+  // Adapters registered before the stored executions resume (as SetCommandSink would), so that a
+  // resumed execution's first commands find theirs: adapter name ("mqtt") -> sink.
+  std::map<std::string, std::shared_ptr<CommandSink>> command_sinks;
 };
 
 // What a front end hears while a call runs. Called on the calling thread; default: nothing.

@@ -124,6 +124,7 @@ std::optional<Error> OpenExecutions(Core& core, Core::Impl& impl) {
   auto store = OpenSessionStore(sc);
   if (auto* e = std::get_if<Error>(&store)) return Error{e->code, "execution store: " + e->message, e->details};
   impl.executions = std::make_shared<Executions>(core, std::move(std::get<std::unique_ptr<SessionStore>>(store)));
+  for (const auto& [adapter, sink] : impl.cfg.command_sinks) core.SetCommandSink(adapter, sink);
   impl.executions->Resume([&impl](const Json& doc) -> std::variant<std::shared_ptr<const Domain>, Error> {
     DomainRef ref;
     if (doc.contains("action_model")) ref.action_model = doc["action_model"];

@@ -71,8 +71,16 @@ void Executions::StopAll() {
     }
     l->cv.notify_all();
   }
-  for (auto& l : all)
-    if (l->thread.joinable()) l->thread.join();
+  // Shutdown may come from two threads at once (the server's signal thread and its main thread):
+  // each thread is taken out under its execution's lock, so only one caller joins it.
+  for (auto& l : all) {
+    std::thread t;
+    {
+      std::lock_guard<std::mutex> lk(l->mu);
+      t = std::move(l->thread);
+    }
+    if (t.joinable()) t.join();
+  }
 }
 
 std::shared_ptr<Executions::Live> Executions::Find(const std::string& id) {

@@ -16,7 +16,7 @@ struct ServeOptions {
   std::string host, config_file, config_dir, data_dir, session_store;
   bool demo = false;
   std::optional<int> grpc_port;
-  std::string grpc_host, grpc_tls_cert, grpc_tls_key, api_keys;
+  std::string grpc_host, grpc_tls_cert, grpc_tls_key, api_keys, mqtt_url, mqtt_client_id;
   bool allow_unauthenticated = false;
 };
 
@@ -42,6 +42,8 @@ int RunServe(const ServeOptions& o) {
   if (!o.grpc_tls_key.empty()) c.grpc_tls_key = o.grpc_tls_key;
   if (!o.api_keys.empty()) c.api_keys_file = o.api_keys;
   if (o.allow_unauthenticated) c.allow_unauthenticated = true;
+  if (!o.mqtt_url.empty()) c.mqtt_url = o.mqtt_url;
+  if (!o.mqtt_client_id.empty()) c.mqtt_client_id = o.mqtt_client_id;
   if (auto e = c.Validate()) {
     std::cerr << "error: " << e->ToString() << "\n";
     return 2;
@@ -72,6 +74,10 @@ Runner AddServe(CLI::App& app) {
                   "checks then needs \"Authorization: Bearer KEY\"; re-read on SIGHUP");
   sub->add_flag("--allow-unauthenticated", o->allow_unauthenticated,
                 "Serve a non-loopback address without --api-keys");
+  sub->add_option("--mqtt-url", o->mqtt_url,
+                  "MQTT broker for executions with adapter mqtt (mqtt://host[:port]; docs/executive.md)");
+  sub->add_option("--mqtt-client-id", o->mqtt_client_id,
+                  "MQTT client id: names the broker's persistent session (default ctburton)");
   return [o, sub]() { return sub->parsed() ? RunServe(*o) : -1; };
 }
 

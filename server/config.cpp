@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "mqtt/url.h"
 #include "planner/model/catalog.h"
 #include "translator/pipeline.h"
 
@@ -35,7 +36,7 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
                  "max_sessions", "session_idle_s", "shutdown_grace_ms", "body_timeout_s", "keep_alive_s",
                  "max_connections", "max_connections_per_address", "solver_memory_mb", "budget",
                  "data_dir", "session_store", "demo", "grpc_port", "grpc_host", "grpc_tls_cert",
-                 "grpc_tls_key", "max_grpc_streams_per_client", "api_keys_file"});
+                 "grpc_tls_key", "max_grpc_streams_per_client", "api_keys_file", "mqtt_url", "mqtt_client_id"});
     auto str = [&](const char* k, std::string& out) {
       if (auto v = r.String(k, false)) out = *v;
     };
@@ -66,6 +67,8 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
     str("grpc_tls_cert", c.grpc_tls_cert);
     str("grpc_tls_key", c.grpc_tls_key);
     str("api_keys_file", c.api_keys_file);
+    str("mqtt_url", c.mqtt_url);
+    str("mqtt_client_id", c.mqtt_client_id);
     if (const Json* v = r.Get("grpc_port")) {
       if (v->is_number_integer() && v->get<long long>() >= -1 && v->get<long long>() <= 65535)
         c.grpc_port = v->get<int>();
@@ -122,6 +125,8 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
   if (const char* v = std::getenv("CTB_SESSION_STORE"); v && *v) c.session_store = v;
   if (const char* v = std::getenv("CTB_API_KEYS"); v && *v) c.api_keys_file = v;
   if (const char* v = std::getenv("CTB_GRPC_HOST"); v && *v) c.grpc_host = v;
+  if (const char* v = std::getenv("CTB_MQTT_URL"); v && *v) c.mqtt_url = v;
+  if (const char* v = std::getenv("CTB_MQTT_CLIENT_ID"); v && *v) c.mqtt_client_id = v;
   if (const char* p = std::getenv("CTB_GRPC_PORT"); p && *p) {
     char* end = nullptr;
     errno = 0;
@@ -144,6 +149,12 @@ std::optional<Error> ServerConfig::Validate() const {
   if (grpc_port < -1 || grpc_port > 65535) d.Error("/grpc_port", "must be -1 (off) or 0..65535");
   if (grpc_tls_cert.empty() != grpc_tls_key.empty())
     d.Error("/grpc_tls_cert", "give both grpc_tls_cert and grpc_tls_key, or neither");
+  if (!mqtt_url.empty()) {
+    auto parsed = mqtt::ParseMqttUrl(mqtt_url);
+    if (auto* e = std::get_if<std::string>(&parsed)) d.Error("/mqtt_url", *e);
+  }
+  if (!mqtt_url.empty() && (mqtt_client_id.empty() || mqtt_client_id.size() > 184))
+    d.Error("/mqtt_client_id", "must be 1..184 characters");
   if (max_grpc_streams_per_client < 1 || max_grpc_streams_per_client > 1024)
     d.Error("/max_grpc_streams_per_client", "must be 1..1024");
   auto range = [&](const char* ptr, long v, long lo, long hi) {
@@ -209,6 +220,7 @@ Json ServerConfig::ToLogJson() const {
           {"demo", demo}, {"grpc_port", grpc_port}, {"grpc_host", grpc_host},
           {"grpc_tls", !grpc_tls_cert.empty()}, {"api_keys", !api_keys_file.empty()},
           {"allow_unauthenticated", allow_unauthenticated},
+          {"mqtt_url", mqtt_url}, {"mqtt_client_id", mqtt_client_id},
           {"llm_replay", !llm.replay_dir.empty() ? llm.replay_dir : demo ? recordings_dir + " (demo)" : ""}};
 }
 

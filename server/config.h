@@ -50,6 +50,11 @@ struct ServerConfig {
   // only loopback addresses are served unless allow_unauthenticated.
   std::string api_keys_file;
   bool allow_unauthenticated = false;
+  // The executive's MQTT adapter (contract section 14; mqtt/adapter.h): "" = off, else
+  // mqtt://host[:port]; the client id names the broker's persistent session (keep it stable, and
+  // give each replica its own).
+  std::string mqtt_url;
+  std::string mqtt_client_id = "ctburton";
   LlmConfig llm;
 
   // Defaults, then the file (if any), then the environment (CTB_*), as documented in

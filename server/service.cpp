@@ -10,6 +10,7 @@
 
 #include "app/core.h"
 #include "grpc/grpc_front.h"
+#include "mqtt/adapter.h"
 #include "server/http_front.h"
 
 namespace ctb::server {
@@ -51,6 +52,15 @@ bool IsLoopback(const std::string& host) {
 }  // namespace
 
 int Serve(const ServerConfig& cfg) {
+  // Signals: a dedicated thread waits for them (no work in a signal handler). Blocked first, so
+  // that every thread started from here on (the MQTT adapter's, resumed executions') inherits
+  // the mask and a SIGTERM drains instead of killing the process.
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
   std::unique_ptr<app::ApiKeys> keys;
   if (!cfg.api_keys_file.empty()) {
     auto k = app::ApiKeys::Load(cfg.api_keys_file);
@@ -66,20 +76,40 @@ int Serve(const ServerConfig& cfg) {
                              cfg.host + " without keys"));
     return 2;
   }
-  auto opened = app::Core::Open(CoreConfigOf(cfg));
+  // The MQTT adapter is registered with the core before it opens (executions resumed from the
+  // store find it) and connected once the core is open.
+  std::shared_ptr<mqtt::Adapter> mqtt_adapter;
+  app::CoreConfig core_cfg = CoreConfigOf(cfg);
+  if (!cfg.mqtt_url.empty()) {
+    auto a = mqtt::Adapter::Create({cfg.mqtt_url, cfg.mqtt_client_id});
+    if (auto* e = std::get_if<std::string>(&a)) {
+      spdlog::error("{}", Safe(*e));
+      return 2;
+    }
+    mqtt_adapter = std::get<std::shared_ptr<mqtt::Adapter>>(a);
+    core_cfg.command_sinks["mqtt"] = mqtt_adapter;
+  }
+  auto opened = app::Core::Open(core_cfg);
   if (auto* e = std::get_if<Error>(&opened)) {
     spdlog::error("{}", Safe(e->message));
     return 2;
   }
   auto core = std::move(std::get<std::unique_ptr<app::Core>>(opened));
+  // Declared after the core: stops the adapter's network thread (which calls into the core)
+  // before the core is destroyed, on every return path.
+  struct StopAdapter {
+    std::shared_ptr<mqtt::Adapter> a;
+    ~StopAdapter() {
+      if (a) a->Stop();
+    }
+  } stop_adapter{mqtt_adapter};
+  if (mqtt_adapter) {
+    spdlog::info("{}", Json({{"event", "mqtt"}, {"url", cfg.mqtt_url}, {"client_id", cfg.mqtt_client_id},
+                             {"commands", "ctburton/<execution>/<automaton>/command"},
+                             {"reports", "ctburton/+/+/state"}}).dump());
+    mqtt_adapter->Connect(*core);
+  }
   HttpFrontEnd http(cfg, *core, keys.get());
-  // Signals: a dedicated thread waits for them (no work in a signal handler).
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGHUP);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);
   const int port = http.Bind();
   if (port < 0) {
     spdlog::error("{}", Safe("cannot listen on " + cfg.host + ":" + std::to_string(cfg.port)));
@@ -101,6 +131,7 @@ int Serve(const ServerConfig& cfg) {
   Json listening = {{"event", "listening"}, {"host", cfg.host}, {"port", port},
                     {"config", cfg.ToLogJson()}};
   if (grpc) listening["grpc_port"] = grpc_port;
+  if (mqtt_adapter) listening["mqtt_url"] = cfg.mqtt_url;
   spdlog::info("{}", listening.dump());
   std::atomic<bool> draining{false};
   std::thread signals([&] {
@@ -128,6 +159,7 @@ int Serve(const ServerConfig& cfg) {
   });
   http.Listen();
   core->Shutdown();
+  if (mqtt_adapter) mqtt_adapter->Stop();
   if (!draining) pthread_kill(signals.native_handle(), SIGTERM);  // the thread drains and ends
   signals.join();
   if (grpc) grpc->Wait();
