@@ -259,11 +259,47 @@ class Deriver {
     AddLink(0, p, at, at, false, "fixed at its plan time");
   }
 
+  // A replan's history is what happened, never checked against the model (a late report breaks a
+  // duration, an observed jump resets a clock): its points are pinned at their times, and a link
+  // between two of them is dropped (the pins say all). A link from the history to the future
+  // that the verified plan itself does not meet (a stay whose clock an observation reset) says
+  // nothing true either: it is dropped and its future end pinned at its planned time (sound,
+  // rigid for that point). Without this, the network of a plan whose history broke a bound was
+  // inconsistent.
   void PinHistory() {
     const int p = t_.history->events();
-    for (std::size_t x = 1; x < f_.net.points.size(); ++x)
-      if (f_.point_event[x] <= p) AddLink(0, static_cast<int>(x), Ms(t_.events[f_.point_event[x]]),
-                                          Ms(t_.events[f_.point_event[x]]), false, "executed");
+    auto hist = [&](int x) { return x == 0 || f_.point_event[x] <= p; };
+    auto time = [&](int x) { return x == 0 ? Ticks{0} : Ms(t_.events[f_.point_event[x]]); };
+    std::vector<Link> kept;
+    std::set<int> pin;
+    for (const Link& l : f_.net.links) {
+      if (hist(l.from) && hist(l.to)) continue;
+      if (hist(l.from) != hist(l.to)) {
+        const Ticks dt = time(l.to) - time(l.from);
+        if (dt < l.lb || (l.ub && dt > *l.ub)) {
+          pin.insert(hist(l.from) ? l.to : l.from);
+          continue;
+        }
+      }
+      kept.push_back(l);
+    }
+    f_.net.links = std::move(kept);
+    std::set<int> contingent_ends;
+    for (const Link& l : f_.net.links)
+      if (l.contingent) contingent_ends.insert(l.to);
+    for (std::size_t x = 1; x < f_.net.points.size(); ++x) {
+      const int xi = static_cast<int>(x);
+      if (f_.net.points[x].kind == PointKind::kContingent && !contingent_ends.count(xi))
+        f_.net.points[x].kind = PointKind::kControllable;  // its duration is a fact now, or pinned
+      if (hist(xi) || pin.count(xi)) {  // not through AddLink: an equal link may have been dropped
+        Link l;
+        l.to = xi;
+        l.lb = time(xi);
+        l.ub = l.lb;
+        l.why = hist(xi) ? "executed" : "pinned after the history";
+        f_.net.links.push_back(std::move(l));
+      }
+    }
   }
 
   static void AddReads(const Condition& c, std::set<int>& out) {

@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "planner/replan/replan.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
 #include "test_util.h"
@@ -400,6 +401,53 @@ TEST(FlexiblePlan, NothingItReadsLandsOnAnAutomaticTransitionsDueTime) {
     ASSERT_TRUE(t);
     EXPECT_EQ(VerifyTrajectory(*t, *d, *sp, 1), std::vector<std::string>{});
   }
+}
+
+}  // namespace
+}  // namespace ctb
+
+namespace ctb {
+namespace {
+
+// A replan whose history broke a duration (robot 2 reached door 2 at 13 s, its drive takes
+// 10 s): the history is what happened, so the network of the new plan pins it and stays
+// consistent (before, the history's own broken duration made it inconsistent, slack empty, and
+// the executive could not adopt the plan).
+TEST(FlexiblePlan, AReplanWhoseHistoryBrokeADurationHasAConsistentNetwork) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  const std::string file = testing::ConfigDir() + "/examples/search_rescue/test1.json";
+  StatePlan sp = testing::ShippedStatePlan("search_rescue", file);
+  SolveOptions so;
+  auto first = Solve(d, sp, so);
+  ASSERT_TRUE(std::holds_alternative<Json>(first));
+  const Json body = {
+      {"now", 14},
+      {"executed", Json::parse(R"([
+        {"time": 0, "automaton": "robot1", "from": "outside", "to": "goingToDoor2"},
+        {"time": 0, "automaton": "robot2", "from": "outside", "to": "goingToDoor2"},
+        {"time": 10, "automaton": "robot1", "from": "goingToDoor2", "to": "atDoor2"},
+        {"time": 13, "automaton": "robot2", "from": "goingToDoor2", "to": "atDoor2"}])")},
+      {"trajectory", std::get<Json>(first)}};
+  ReplanRequest req;
+  ASSERT_EQ(ReadReplanRequest(body, req, nullptr), std::nullopt);
+  ReplanOptions ro;
+  auto r = Replan(d, sp, req, ro);
+  ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
+  const Json& a = std::get<Json>(r);
+  ASSERT_EQ(a["status"], "optimal");
+  EXPECT_EQ(a["slack"].size(), a["network"]["points"].size() - 1) << a["controllability"].dump();
+  EXPECT_TRUE(a["controllability"]["dynamic"].get<bool>());
+  // The history's points sit at their reported times.
+  int seen = 0;
+  for (const auto& s : a["slack"]) {
+    const Json& pt = a["network"]["points"][s["point"].get<int>()];
+    if (pt.value("automaton", "") == "robot2" && pt.value("to", "") == "atDoor2") {
+      ++seen;
+      EXPECT_EQ(s["earliest"], 13);
+      EXPECT_EQ(s["latest"], 13);
+    }
+  }
+  EXPECT_EQ(seen, 1);
 }
 
 }  // namespace
