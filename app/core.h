@@ -66,10 +66,10 @@ class Observer {
  public:
   virtual ~Observer() = default;
   // stage: "translating" | "repairing" | "solving"; info: {"llm_call"?}.
-  virtual void OnStage(const std::string& stage, const Json& info) {}
+  virtual void OnStage(const std::string& /*stage*/, const Json& /*info*/) {}
   // Each improving verified plan: {"kind", "objective", "cost", "makespan", "horizon", "bound"?,
   // "elapsed_ms"}.
-  virtual void OnSolution(const Json& progress) {}
+  virtual void OnSolution(const Json& /*progress*/) {}
 };
 
 // Per call: who listens, when to stop, and the request id for the logs.
@@ -151,6 +151,9 @@ struct ExecutionCall {
   double speed = 1;              // plan seconds per wall second (simulations run faster)
   Json sim;                      // the sim adapter's faults: {"fail", "late", "late_by", "seed"}
   RequestOptions options;        // for the first solve and every replan
+  // false: a departure from the plan ends the execution `failed` instead of replanning (to
+  // measure what replanning buys).
+  bool replan = true;
 };
 
 // Where an adapter hears the commands of the executions it carries.
@@ -274,6 +277,10 @@ class Core {
   // has ended and every event was given. kNotFound when unknown.
   std::variant<std::vector<ExecutionEvent>, Error> ExecutionEvents(const std::string& id, long after,
                                                                   long wait_ms, bool* ended);
+  // Learned durations (contract 14): {"transitions": [{"automaton", "from", "to", "count", "min",
+  // "max", "mean"}], "suggested": a domain document or null} over the stored executions of a
+  // named domain; kNotFound for an unknown domain.
+  std::variant<Json, Error> DomainDurations(const std::string& name);
   // The adapter that carries commands of `adapter` ("mqtt", "grpc") executions; nullptr removes.
   // A grpc sink is per execution: `execution` names it.
   void SetCommandSink(const std::string& adapter, std::shared_ptr<CommandSink> sink,

@@ -87,7 +87,7 @@ std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& reque
                  {}};
   auto dom = impl_->ResolveDomain(ref);
   if (auto* e = std::get_if<Error>(&dom)) return *e;
-  Json doc = {{"state_plan", state_plan}, {"adapter", call.adapter}, {"speed", call.speed},
+  Json doc = {{"state_plan", state_plan}, {"adapter", call.adapter}, {"speed", call.speed}, {"replan", call.replan},
               {"options", OptionsJson(call.options)}};
   if (ref.name) doc["domain"] = *ref.name;
   if (ref.action_model) doc["action_model"] = *ref.action_model;

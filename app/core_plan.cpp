@@ -150,7 +150,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
   }
   auto opts = impl_->MakeOptions(call.options);
   if (auto* e = std::get_if<Error>(&opts)) return *e;
-  TranslateCall tc{DomainRef{domain, std::nullopt}, call.command, call.prompting};
+  TranslateCall tc{DomainRef{domain, std::nullopt, nullptr}, call.command, call.prompting};
   auto t = RunTranslation(*impl_, tc, session ? &*session : nullptr, ctx);
   if (auto* e = std::get_if<Error>(&t)) return *e;
   auto& tr = std::get<Translated>(t);

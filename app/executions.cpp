@@ -15,6 +15,7 @@ namespace ctb::app {
 namespace {
 
 constexpr std::size_t kKeptEvents = 500;  // per execution, in the store and in GET
+constexpr int kMaxReplansInARow = 8;
 
 Error Unavailable() {
   return {ErrorCode::kUnavailable, "the execution store failed; the report was not stored: send it again", {}};
@@ -40,6 +41,7 @@ struct Executions::Live {
   double speed = 1;
   long origin_ms = 0;
   long replans = 0;
+  int replans_in_a_row = 0;  // without a report between them
   std::vector<ExecutionEvent> events;
   long seq = 0;
   std::optional<std::string> pending_replan;
@@ -148,6 +150,7 @@ std::variant<exec::Applied, Error> Executions::ApplyLocked(Live& live, const exe
     live.seq = seq;
     return Unavailable();
   }
+  live.replans_in_a_row = 0;
   if (a.replan && !live.pending_replan) live.pending_replan = *a.replan;
   live.poked = true;
   live.cv.notify_all();
@@ -156,6 +159,18 @@ std::variant<exec::Applied, Error> Executions::ApplyLocked(Live& live, const exe
 
 void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex>& lk, const std::string& why) {
   const double now = live->Now();
+  if (!live->stored.doc.value("replan", true)) {
+    live->run.Finish(exec::State::kFailed, "the world departed from the plan and replanning is off: " + why);
+    return;
+  }
+  // Plans that are late already when adopted (the clock outruns the planner: a speed too high
+  // for the team, or a device that never reports) would be replanned for ever.
+  if (++live->replans_in_a_row > kMaxReplansInARow) {
+    live->run.Finish(exec::State::kFailed, std::to_string(kMaxReplansInARow) +
+                                               " replans in a row without a report between them; the last after: " + why);
+    return;
+  }
+  const long t0 = store::NowMs();
   ReplanCall call;
   call.domain.loaded = live->domain;
   call.state_plan = live->stored.doc["state_plan"];
@@ -182,9 +197,11 @@ void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex
       return;
     }
     ++live->replans;
+    // ms: from the decision to replan to the new plan adopted; its first commands go out at once.
     Emit(*live, "replanned", {{"why", why}, {"now", call.request["now"]}, {"status", doc.value("status", "")},
-                              {"objective", doc.value("objective", Json())}, {"diff", doc.value("diff", Json())}});
-    if (live->run.history().size() != seen) live->pending_replan = "reports came while replanning";
+                              {"objective", doc.value("objective", Json())}, {"diff", doc.value("diff", Json())},
+                              {"ms", store::NowMs() - t0}});
+    if (!live->run.Replay(seen)) live->pending_replan = "reports came while replanning that the new plan does not have next";
     Persist(*live);
     return;
   }
@@ -363,6 +380,26 @@ std::vector<ExecutionEvent> StoredEvents(const Json& doc) {
 }
 
 }  // namespace
+
+std::variant<std::vector<Json>, Error> Executions::Histories(const std::string& domain) {
+  auto ids = store_->List();
+  if (auto* e = std::get_if<Error>(&ids)) return *e;
+  std::vector<Json> out;
+  for (const auto& id : std::get<std::vector<std::string>>(ids)) {
+    if (auto live = Find(id)) {
+      std::lock_guard<std::mutex> lk(live->mu);
+      if (!live->stored.doc.contains("action_model") && live->stored.doc.value("domain", "") == domain)
+        out.push_back(live->run.history());
+      continue;
+    }
+    auto got = store_->Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    const auto& s = std::get<std::optional<StoredSession>>(got);
+    if (s && !s->doc.contains("action_model") && s->doc.value("domain", "") == domain)
+      out.push_back(s->doc.value("run", Json::object()).value("history", Json::array()));
+  }
+  return out;
+}
 
 std::variant<Json, Error> Executions::Get(const std::string& id) {
   if (auto live = Find(id)) {

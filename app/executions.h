@@ -40,6 +40,8 @@ class Executions {
                                                          bool* ended);
   void SetSink(const std::string& adapter, std::shared_ptr<CommandSink> sink, const std::string& execution);
   void StopAll();
+  // The histories of the stored executions of the named domain (any state).
+  std::variant<std::vector<Json>, Error> Histories(const std::string& domain);
 
  private:
   struct Live;

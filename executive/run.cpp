@@ -189,6 +189,21 @@ std::optional<Error> Run::Adopt(const Json& plan, double now) {
   return std::nullopt;
 }
 
+bool Run::Replay(std::size_t from) {
+  for (std::size_t k = from; k < history_.size(); ++k) {
+    const Json& h = history_[k];
+    const int ai = d_->AutomatonIndex(h.value("automaton", ""));
+    if (ai < 0) return false;
+    const Automaton& a = d_->automata[ai];
+    const int q = NextPointOf(ai);
+    if (q < 0 || points_[q].from != a.LocationIndex(h.value("from", "")) ||
+        points_[q].to != a.LocationIndex(h.value("to", "")))
+      return false;
+    points_[q].at = ToTicks(h["time"].get<double>());
+  }
+  return true;
+}
+
 Ticks Run::OnGrid(double now_s) const {
   const Ticks step = std::max<Ticks>(1, ToTicks(d_->time_resolution));
   const Ticks now = ToTicks(now_s);
@@ -374,15 +389,21 @@ std::variant<Applied, Error> Run::Apply(const Report& r, double now_s, const std
     out.replan = a.name + " moved " + here + "->" + *r.location + ", which the plan did not have next";
     return out;
   }
-  // Inside what the network absorbs: its window given what happened before it.
+  // Inside what the network absorbs: its window given what happened before it. A report a little
+  // off (within the grace: a device's clock, the transport) counts at the nearest time inside the
+  // window, so that jitter on an exact duration does not break the schedule; the history keeps
+  // the time reported.
   const auto windows = HappenedWindows();
   points_[q].at = t;
   if (!windows) return out;  // already inconsistent: Advance replans
   const auto& win = (*windows)[q];
-  if (t < win.earliest - grace_ || (win.latest && t > *win.latest + grace_))
+  if (t < win.earliest - grace_ || (win.latest && t > *win.latest + grace_)) {
     out.replan = Describe(q) + " happened at " + Json(r.time).dump() + " s, outside its window [" +
                  Json(ToSeconds(win.earliest)).dump() + ", " +
                  (win.latest ? Json(ToSeconds(*win.latest)).dump() : std::string("inf")) + "]";
+    return out;
+  }
+  points_[q].at = std::max(win.earliest, win.latest ? std::min(t, *win.latest) : t);
   return out;
 }
 

@@ -78,6 +78,11 @@ class Run {
   // plan also sets every automaton's starting location. kInternal when the plan lacks a network.
   std::optional<Error> Adopt(const Json& plan, double now);
 
+  // After adopting a plan made from the first `from` entries of the history: the later entries
+  // (reports that came while it was made) taken as its next transitions where they are; false
+  // when one is not, and the plan must be made again.
+  bool Replay(std::size_t from);
+
   // Dispatch decisions at `now` (call after every change and at NextWake()).
   Decision Advance(double now);
   // The next moment Advance may decide something without a report (a window opening, a planned

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <condition_variable>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -219,6 +220,67 @@ class PlannerService final : public pb::Planner::Service {
     });
   }
 
+  // Executing with the caller as the device side (contract section 14): events out (the
+  // `dispatched` ones are the commands), reports in. One thread reads, this one writes.
+  Status Execute(ServerContext* c,
+                 grpc::ServerReaderWriter<pb::ExecutionEvent, pb::ExecuteMessage>* stream) override {
+    return RunStream(c, "Execute", [&]() -> Status {
+      pb::ExecuteMessage first;
+      if (!stream->Read(&first) || first.kind_case() != pb::ExecuteMessage::kStart)
+        return Status(grpc::StatusCode::INVALID_ARGUMENT, "the first message of Execute is an ExecuteStart");
+      auto started = core_.StartExecution(ExecuteCallOf(first.start()), Context(c, nullptr));
+      if (auto* e = std::get_if<Error>(&started)) return StatusOf(*e);
+      const std::string id = std::get<std::string>(started);
+      std::mutex write_mu;
+      std::mutex done_mu;
+      std::condition_variable reader_done;
+      bool reading = true;
+      auto write = [&](pb::ExecutionEvent& ev) {
+        std::lock_guard<std::mutex> lock(write_mu);
+        return stream->Write(ev);
+      };
+      std::thread reader([&] {
+        pb::ExecuteMessage m;
+        while (stream->Read(&m)) {
+          std::variant<Json, Error> r = Error{ErrorCode::kInvalidInput, "after the start, only reports", {}};
+          if (m.kind_case() == pb::ExecuteMessage::kReport) r = core_.ReportExecution(id, ReportOf(m.report()));
+          if (auto* e = std::get_if<Error>(&r)) {
+            pb::ExecutionEvent ev = Refused(id, *e);
+            write(ev);
+          }
+        }
+        std::lock_guard<std::mutex> lock(done_mu);
+        reading = false;
+        reader_done.notify_all();
+      });
+      long after = 0;
+      bool ended = false;
+      while (!ended && !c->IsCancelled()) {
+        auto events = core_.ExecutionEvents(id, after, 500, &ended);
+        if (std::holds_alternative<Error>(events)) break;
+        bool written = true;
+        for (const auto& e : std::get<std::vector<app::ExecutionEvent>>(events)) {
+          pb::ExecutionEvent ev;
+          ev.set_execution(id);
+          ev.set_seq(e.seq);
+          ev.set_event(e.name);
+          FromJson(e.data, ev.mutable_data());
+          after = e.seq;
+          if (!(written = write(ev))) break;
+        }
+        if (!written) break;
+      }
+      if (!ended) core_.StopExecution(id);  // the device side went away: nothing can carry it on
+      {
+        // The caller closes its side once it has read `finished`; one that does not is cut off.
+        std::unique_lock<std::mutex> lock(done_mu);
+        if (!reader_done.wait_for(lock, std::chrono::seconds(2), [&] { return !reading; })) c->TryCancel();
+      }
+      reader.join();
+      return ended ? Status::OK : Status(grpc::StatusCode::CANCELLED, "the execution was stopped");
+    });
+  }
+
   int in_flight() const { return in_flight_; }
 
  private:
@@ -245,6 +307,38 @@ class PlannerService final : public pb::Planner::Service {
   // The request as the JSON body of POST /replan: proto3's JSON mapping leaves out zero values,
   // so `now` and each observation's `since` are written explicitly, and a trajectory's timelines
   // lose their wrapper.
+  static app::ExecutionCall ExecuteCallOf(const pb::ExecuteStart& q) {
+    app::ExecutionCall call;
+    call.adapter = "grpc";
+    if (q.has_session()) call.session = q.session();
+    if (q.has_domain()) call.domain.name = q.domain();
+    if (q.has_action_model()) call.domain.action_model = ToJson(q.action_model());
+    if (q.has_state_plan()) call.state_plan = ToJson(q.state_plan());
+    if (q.has_trajectory()) call.trajectory = ToJson(q.trajectory());
+    call.speed = q.speed() == 0 ? 1 : q.speed();
+    if (q.has_options()) call.options = OptionsOf(q.options());
+    call.replan = !q.no_replan();
+    return call;
+  }
+
+  // The report as contract 14's JSON (time always present, even 0).
+  static Json ReportOf(const pb::ExecutionReport& r) {
+    Json j = {{"automaton", r.automaton()}, {"time", r.time()}};
+    if (r.has_location()) j["location"] = r.location();
+    if (r.has_failed()) j["failed"] = r.failed();
+    return j;
+  }
+
+  static pb::ExecutionEvent Refused(const std::string& id, const Error& e) {
+    pb::ExecutionEvent ev;
+    ev.set_execution(id);
+    ev.set_event("refused");
+    Json data = {{"code", CodeName(e.code)}, {"message", e.message}};
+    if (!e.details.empty()) data["path"] = e.details[0].pointer.empty() ? "/" : e.details[0].pointer;
+    FromJson(data, ev.mutable_data());
+    return ev;
+  }
+
   app::ReplanCall ReplanCallOf(const pb::ReplanRequest& q) {
     app::ReplanCall call;
     if (q.has_session()) call.session = q.session();

@@ -448,7 +448,7 @@ class HttpFrontEnd::Impl {
   static std::variant<app::ExecutionCall, Error> ExecutionCallOf(const Json& body) {
     if (!body.is_object()) return Bad("the body must be a JSON object", "/");
     if (auto e = CheckKeys(body, {"session", "domain", "action_model", "state_plan", "trajectory",
-                                  "adapter", "speed", "sim", "options"}))
+                                  "adapter", "speed", "sim", "replan", "options"}))
       return *e;
     app::ExecutionCall call;
     auto session = OptString(body, "session", "\"session\" must be a string");
@@ -468,6 +468,10 @@ class HttpFrontEnd::Impl {
     auto adapter = OptString(body, "adapter", "\"adapter\" must be sim, mqtt, grpc or external");
     if (auto* e = std::get_if<Error>(&adapter)) return *e;
     call.adapter = std::get<std::optional<std::string>>(adapter).value_or("");
+    if (body.contains("replan")) {
+      if (!body["replan"].is_boolean()) return Bad("\"replan\" must be true or false", "/replan");
+      call.replan = body["replan"].get<bool>();
+    }
     if (body.contains("speed")) {
       if (!body["speed"].is_number()) return Bad("\"speed\" must be a number", "/speed");
       call.speed = body["speed"].get<double>();
@@ -533,6 +537,11 @@ class HttpFrontEnd::Impl {
         return SendError(s, {ErrorCode::kInvalidInput, "the query parameter force must be true or false", {}});
       if (auto e = core_.DeleteDomain(q.matches[1], force == "true")) return SendError(s, *e);
       s.status = 204;
+    }));
+    svr_.Get(R"(/domains/([A-Za-z0-9_]+)/durations)", Wrap("/domains/{name}/durations", [this](auto& q, auto& s) {
+      auto r = core_.DomainDurations(q.matches[1]);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
     }));
     svr_.Get(R"(/domains/([A-Za-z0-9_]+)/diagram)", Wrap("/domains/{name}/diagram", [this](auto& q, auto& s) {
       auto r = core_.DomainDiagram(q.matches[1]);

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <thread>
 
 #include "ctburton/v1/planner.grpc.pb.h"
@@ -659,3 +661,148 @@ TEST(Grpc, AStreamThroughNginxReachesAReplica) {
 }
 
 }  // namespace
+
+// Execute (contract section 14): the test is the device side. It reads the commands from the
+// stream, answers each with the transition done, reports the plan's other transitions (a door,
+// a robot arriving) in plan order when their moment comes, and sees the run end `finished` /
+// succeeded. A report with a
+// location the robot lacks is refused on the stream with its pointer, and the execution goes on.
+TEST(Grpc, ExecuteWithTheCallerAsTheDevicesRunsAPlanToTheGoal) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  Deadline(c, 60000);
+  auto stream = s.stub->Execute(&c);
+  pb::ExecuteMessage start;
+  start.mutable_start()->set_domain("search_rescue");
+  *start.mutable_start()->mutable_state_plan() =
+      FromJson<pb::StatePlan>(ReadJson("config/examples/search_rescue/test1.json"));
+  const double speed = 20;  // 13 plan s in 0.65 s; a report up to 4 plan s off is on time
+  start.mutable_start()->set_speed(speed);
+  ASSERT_TRUE(stream->Write(start));
+  json plan;
+  std::set<std::string> sent;  // "automaton from to" dispatched
+  std::map<std::string, double> sent_at, last_real, last_plan;
+  std::chrono::steady_clock::time_point origin;
+  std::size_t next = 0;
+  int refused = 0, dispatched = 0;
+  std::string last, id;
+  pb::ExecutionEvent ev;
+  auto report = [&](const std::string& automaton, const std::string& location, double time) {
+    pb::ExecuteMessage m;
+    m.mutable_report()->set_automaton(automaton);
+    m.mutable_report()->set_location(location);
+    m.mutable_report()->set_time(time);
+    return stream->Write(m);
+  };
+  while (stream->Read(&ev)) {
+    last = ev.event();
+    if (id.empty()) {
+      origin = std::chrono::steady_clock::now();  // the first command goes out at plan time 0
+      id = ev.execution();
+      httplib::Client h("127.0.0.1", s.proc.port());
+      auto r = h.Get(("/executions/" + id).c_str());
+      ASSERT_TRUE(r);
+      plan = json::parse(r->body)["plan"];
+      EXPECT_TRUE(report("robot1", "onTheMoon", 0));  // refused, and the run goes on
+    }
+    std::string text;
+    google::protobuf::util::MessageToJsonString(ev.data(), &text);
+    const json data = json::parse(text);
+    if (ev.event() == "refused") {
+      ++refused;
+      EXPECT_EQ(data["path"], "/location") << text;
+    }
+    if (ev.event() == "dispatched") {
+      ++dispatched;
+      const std::string key = data["automaton"].get<std::string>() + " " + data["from"].get<std::string>() + " " +
+                              data["to"].get<std::string>();
+      sent.insert(key);
+      sent_at[key] = data["at"].get<double>();
+    }
+    if (ev.event() == "finished") {
+      EXPECT_EQ(data["state"], "succeeded") << text;
+      break;
+    }
+    // Every transition of the plan whose turn has come, in plan order: a commanded one once its
+    // command came (at the command's time), another on its own clock (its plan time shifted by
+    // how late its automaton's previous transition was).
+    const json& ts = plan["transitions"];
+    while (next < ts.size()) {
+      const json& t = ts[next];
+      const std::string a = t["automaton"];
+      const std::string key = a + " " + t["from"].get<std::string>() + " " + t["to"].get<std::string>();
+      const double planned = t["time"].get<double>();
+      double at = planned + (last_plan.count(a) ? last_real[a] - last_plan[a] : 0);
+      if (t["command"].is_string()) {
+        if (!sent_at.count(key)) break;
+        at = sent_at[key];
+      }
+      at = std::max(at, last_real.count(a) ? last_real[a] : 0.0);
+      // A device reports a move when it has made it: not before its moment on the wall clock.
+      std::this_thread::sleep_until(origin + std::chrono::microseconds(static_cast<long>(at / speed * 1e6)));
+      ASSERT_TRUE(report(a, t["to"], at));
+      last_real[a] = at;
+      last_plan[a] = planned;
+      ++next;
+    }
+  }
+  EXPECT_EQ(last, "finished");
+  EXPECT_EQ(refused, 1);
+  EXPECT_GT(dispatched, 3);
+  stream->WritesDone();
+  EXPECT_TRUE(stream->Finish().ok());
+  // The same execution over HTTP: succeeded, every transition of the plan in the history.
+  httplib::Client h("127.0.0.1", s.proc.port());
+  auto r = h.Get(("/executions/" + id).c_str());
+  ASSERT_TRUE(r);
+  const json v = json::parse(r->body);
+  EXPECT_EQ(v["state"], "succeeded") << v.value("why", "") << "\n" << v["events"].dump();
+  EXPECT_EQ(v["adapter"], "grpc");
+  EXPECT_EQ(v["history"].size(), plan["transitions"].size());
+}
+
+// A first message that is not a start is refused; a caller that goes away stops its execution.
+TEST(Grpc, ExecuteNeedsAStartAndStopsWhenTheCallerLeaves) {
+  GrpcServer s;
+  {
+    grpc::ClientContext c;
+    Deadline(c, 30000);
+    auto stream = s.stub->Execute(&c);
+    pb::ExecuteMessage m;
+    m.mutable_report()->set_automaton("robot1");
+    ASSERT_TRUE(stream->Write(m));
+    stream->WritesDone();
+    pb::ExecutionEvent ev;
+    EXPECT_FALSE(stream->Read(&ev));
+    EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  std::string id;
+  {
+    grpc::ClientContext c;
+    Deadline(c, 30000);
+    auto stream = s.stub->Execute(&c);
+    pb::ExecuteMessage start;
+    start.mutable_start()->set_domain("search_rescue");
+    *start.mutable_start()->mutable_state_plan() =
+        FromJson<pb::StatePlan>(ReadJson("config/examples/search_rescue/test1.json"));
+    ASSERT_TRUE(stream->Write(start));
+    pb::ExecutionEvent ev;
+    ASSERT_TRUE(stream->Read(&ev));
+    EXPECT_EQ(ev.event(), "dispatched");
+    id = ev.execution();
+    c.TryCancel();
+    while (stream->Read(&ev)) {
+    }
+    stream->Finish();
+  }
+  httplib::Client h("127.0.0.1", s.proc.port());
+  json v;
+  for (int i = 0; i < 500; ++i) {
+    auto r = h.Get(("/executions/" + id).c_str());
+    ASSERT_TRUE(r);
+    v = json::parse(r->body);
+    if (v["state"] != "running") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(v["state"], "stopped");
+}

@@ -24,6 +24,7 @@ Json Example(const std::string& file) {
 
 Json Post(httplib::Client& c, const std::string& path, const Json& body, int* status = nullptr) {
   auto r = c.Post(path.c_str(), body.dump(), "application/json");
+  testing::Record("POST", path, r);  // checked against server/openapi.json (sessions_test.cpp)
   if (!r) {
     ADD_FAILURE() << "no answer from POST " << path;
     return Json();
@@ -32,8 +33,9 @@ Json Post(httplib::Client& c, const std::string& path, const Json& body, int* st
   return Json::parse(r->body, nullptr, false);
 }
 
-Json Get(httplib::Client& c, const std::string& path) {
+Json Get(httplib::Client& c, const std::string& path, bool record = true) {
   auto r = c.Get(path.c_str());
+  if (record) testing::Record("GET", path, r);
   if (!r) {
     ADD_FAILURE() << "no answer from GET " << path;
     return Json();
@@ -48,8 +50,8 @@ Json WaitFor(httplib::Client& c, const std::string& id, Pred done, int seconds =
   const auto until = Clock::now() + std::chrono::seconds(seconds);
   Json v;
   while (Clock::now() < until) {
-    v = Get(c, "/executions/" + id);
-    if (done(v)) return v;
+    v = Get(c, "/executions/" + id, /*record=*/false);
+    if (done(v)) return Get(c, "/executions/" + id);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   ADD_FAILURE() << "timed out; last view: " << v.dump().substr(0, 2000);
@@ -85,7 +87,9 @@ TEST(Executions, TheSimCarriesAPlanToTheGoalAndTheStreamEndsWithFinished) {
   EXPECT_EQ(v["history"].size(), v["plan"]["transitions"].size());
   std::set<std::string> sent;
   for (const auto& e : v["events"])
-    if (e["event"] == "dispatched") EXPECT_TRUE(sent.insert(e["data"].dump()).second) << e.dump();
+    if (e["event"] == "dispatched") {
+      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << e.dump();
+    }
   int commands = 0;
   for (const auto& t : v["plan"]["transitions"]) commands += t["command"].is_string();
   EXPECT_EQ(static_cast<int>(sent.size()), commands);
@@ -199,9 +203,58 @@ TEST(Executions, AKilledServerResumesFromTheStoreAndDispatchesNothingTwice) {
     EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
   std::set<std::string> sent;
   for (const auto& e : after["events"])
-    if (e["event"] == "dispatched") EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
+    if (e["event"] == "dispatched") {
+      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
+    }
   EXPECT_EQ(after["history"].size(), after["plan"]["transitions"].size());
   std::filesystem::remove_all(data);
+}
+
+// Learned durations: robot 2's drive to door 2 takes 10 s in the domain; reported after 0.5 s
+// (a replan follows), GET /domains/search_rescue/durations counts it, and the suggested domain
+// admits it ([0, 10] on the domain's 1 s grid) and is itself a valid domain (stored as a new one).
+TEST(Executions, DurationsSeenAreCountedAndASuggestedDomainAdmitsThem) {
+  ServerProcess server;
+  auto c = server.Client();
+  int status = 0;
+  Json fast = Post(c, "/executions", RescueRequest(1, {{"adapter", "external"}}), &status);
+  ASSERT_EQ(status, 201);
+  const std::string id2 = fast["execution"];
+  const std::string reports2 = "/executions/" + id2 + "/reports";
+  WaitFor(c, id2, [](const Json& x) { return Count(x, "dispatched") >= 2; });
+  Post(c, reports2, {{"automaton", "robot2"}, {"location", "goingToDoor2"}, {"time", 0}}, &status);
+  ASSERT_EQ(status, 200);
+  WaitFor(c, id2, [](const Json& x) { return x.value("now", 0.0) >= 0.5; });
+  Json late = Post(c, reports2, {{"automaton", "robot2"}, {"location", "atDoor2"}, {"time", 0.5}}, &status);
+  ASSERT_EQ(status, 200) << late.dump();
+  auto stop2 = c.Delete(("/executions/" + id2).c_str());
+  ASSERT_TRUE(stop2);
+
+  Json d = Get(c, "/domains/search_rescue/durations");
+  Json row;
+  for (const auto& r : d["transitions"])
+    if (r["automaton"] == "robot2" && r["from"] == "goingToDoor2") row = r;
+  ASSERT_FALSE(row.is_null()) << d.dump();
+  EXPECT_EQ(row["count"], 1);
+  EXPECT_EQ(row["min"], 0.5);
+  EXPECT_EQ(row["max"], 0.5);
+  ASSERT_TRUE(d["suggested"].is_object()) << d.dump().substr(0, 500);
+  bool widened = false;
+  for (const auto& a : d["suggested"]["automata"])
+    if (a["name"] == "robot2")
+      for (const auto& t : a["transitions"])
+        if (t["from"] == "goingToDoor2" && t["to"] == "atDoor2") {
+          EXPECT_EQ(t["duration"], (Json{0, 10})) << t.dump();
+          widened = true;
+        }
+  EXPECT_TRUE(widened);
+  Json doc = d["suggested"];
+  doc["name"] = "search_rescue_learned";
+  Json created = Post(c, "/domains", doc, &status);
+  EXPECT_EQ(status, 201) << created.dump().substr(0, 500);
+  auto unknown = c.Get("/domains/nosuchdomain/durations");
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->status, 404);
 }
 
 TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {

@@ -28,7 +28,9 @@ def main():
     # Refs to components become refs into $defs of one self-contained schema.
     defs_text = json.dumps(defs).replace("#/components/schemas/", "#/$defs/")
     defs = json.loads(defs_text)
-    paths = [(template_regex(t), t, ops) for t, ops in doc["paths"].items()]
+    # A literal path before a template that also matches it ("/executions" before "/{file}").
+    paths = sorted(((template_regex(t), t, ops) for t, ops in doc["paths"].items()),
+                   key=lambda p: p[1].count("{"))
     problems = checked = 0
     for n, line in enumerate(open(sys.argv[2]), 1):
         if not line.strip():
