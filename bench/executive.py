@@ -3,7 +3,7 @@
 time from a decision to replan to the new plan's first commands.
 
     python3 bench/executive.py [--robots 4] [--runs 100] [--fail 0.2] [--speed 200]
-                               [--out bench/results]
+                               [--out bench/results] [--name executive]
 
 Generates the 4-robot search_rescue domain and state plan (tools/gen_domains.py,
 bench/gen_scaled.py: robot k rescues person k), starts `ctburton serve` on loopback with a fresh
@@ -72,6 +72,7 @@ def main():
     ap.add_argument("--fail", type=float, default=0.2)
     ap.add_argument("--speed", type=float, default=200)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    ap.add_argument("--name", default="executive", help="the results' file name (without extension)")
     a = ap.parse_args()
     dom = gen_domains.search_rescue(a.robots)
     dom["name"] = f"search_rescue_r{a.robots}"
@@ -115,7 +116,7 @@ def main():
     result = {"command": cmd.strip(), "robots": a.robots, "fail": a.fail, "speed": a.speed,
               "load_before": load0, "load_after": load1, "modes": modes}
     os.makedirs(a.out, exist_ok=True)
-    json.dump(result, open(os.path.join(a.out, "executive.json"), "w"), indent=1)
+    json.dump(result, open(os.path.join(a.out, a.name + ".json"), "w"), indent=1)
     on, off = modes["on"], modes["off"]
     md = [f"# Executions with injected failures ({a.robots}-robot search_rescue, sim adapter)", "",
           f"Command: `{cmd.strip()}`  ",
@@ -132,7 +133,7 @@ def main():
            "new plan's first commands are dispatched in the same step. With replanning off, a failed "
            "move ends the execution `failed`. A failed execution with replanning on is one where a "
            "blocked move left no plan (the planner proved it; the execution says why)."]
-    open(os.path.join(a.out, "executive.md"), "w").write("\n".join(md) + "\n")
+    open(os.path.join(a.out, a.name + ".md"), "w").write("\n".join(md) + "\n")
 
 
 if __name__ == "__main__":
