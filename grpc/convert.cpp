@@ -1,6 +1,9 @@
 #include "grpc/convert.h"
 
+#include <google/protobuf/struct.pb.h>
 #include <google/protobuf/util/json_util.h>
+
+#include <memory>
 
 #include "google/rpc/error_details.pb.h"
 #include "google/rpc/status.pb.h"
@@ -39,13 +42,72 @@ grpc::StatusCode CodeOf(ErrorCode c) {
   return grpc::StatusCode::INTERNAL;
 }
 
+// Found by fuzzing (docs/reliability.md): protobuf's JSON printer writes nothing for a
+// google.protobuf.Value without a kind, so a list lost the element (a duration [lo, <unset>]
+// became [lo], an event's endpoint disappeared) and the core never saw the malformed part. Such a
+// Value is printed as an empty object instead, which the loaders refuse at the element's own
+// pointer, as a mistyped value must be.
+bool IsUnsetValue(const google::protobuf::Message& m) {
+  return m.GetDescriptor() == google::protobuf::Value::descriptor() &&
+         static_cast<const google::protobuf::Value&>(m).kind_case() ==
+             google::protobuf::Value::KIND_NOT_SET;
+}
+
+// Whether m holds a Value without a kind, at any depth.
+bool HasUnsetValue(const google::protobuf::Message& m) {
+  using google::protobuf::FieldDescriptor;
+  if (IsUnsetValue(m)) return true;
+  const auto* desc = m.GetDescriptor();
+  const auto* refl = m.GetReflection();
+  for (int i = 0; i < desc->field_count(); ++i) {
+    const FieldDescriptor* f = desc->field(i);
+    if (f->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) continue;
+    if (f->is_repeated()) {
+      for (int k = 0; k < refl->FieldSize(m, f); ++k)
+        if (HasUnsetValue(refl->GetRepeatedMessage(m, f, k))) return true;
+    } else if (refl->HasField(m, f) && HasUnsetValue(refl->GetMessage(m, f))) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Sets every Value without a kind inside m to an empty object.
+void MarkUnsetValues(google::protobuf::Message* m) {
+  using google::protobuf::FieldDescriptor;
+  if (IsUnsetValue(*m)) {
+    static_cast<google::protobuf::Value*>(m)->mutable_struct_value();
+    return;
+  }
+  const auto* desc = m->GetDescriptor();
+  const auto* refl = m->GetReflection();
+  for (int i = 0; i < desc->field_count(); ++i) {
+    const FieldDescriptor* f = desc->field(i);
+    if (f->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) continue;
+    if (f->is_repeated()) {
+      for (int k = 0; k < refl->FieldSize(*m, f); ++k)
+        MarkUnsetValues(refl->MutableRepeatedMessage(m, f, k));
+    } else if (refl->HasField(*m, f)) {
+      MarkUnsetValues(refl->MutableMessage(m, f));
+    }
+  }
+}
+
 }  // namespace
 
 Json ToJson(const google::protobuf::Message& m) {
   google::protobuf::util::JsonPrintOptions o;
   o.preserve_proto_field_names = true;
   std::string text;
-  if (!google::protobuf::util::MessageToJsonString(m, &text, o).ok()) return Json::object();
+  std::unique_ptr<google::protobuf::Message> marked;  // a copy, only when there is a Value to mark
+  const google::protobuf::Message* print = &m;
+  if (HasUnsetValue(m)) {
+    marked.reset(m.New());
+    marked->CopyFrom(m);
+    MarkUnsetValues(marked.get());
+    print = marked.get();
+  }
+  if (!google::protobuf::util::MessageToJsonString(*print, &text, o).ok()) return Json::object();
   return Json::parse(text, nullptr, false);
 }
 

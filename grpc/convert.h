@@ -16,7 +16,8 @@ namespace ctb::grpcfront {
 namespace pb = ::ctburton::v1;
 
 // A message as the contract's JSON (field names as written in the .proto, unset fields left
-// out).
+// out). A google.protobuf.Value without a kind is written as {} (which no document accepts where
+// a Value sits), never left out of its list.
 Json ToJson(const google::protobuf::Message& m);
 // JSON into a message; unknown keys are ignored (the core checks documents strictly itself).
 // An error text when the JSON does not fit the message's types.
