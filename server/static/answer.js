@@ -4,6 +4,7 @@
 // control (execute.js), the exports, the reasoning and the state plan.
 import { renderTimeline, clock, seconds } from "./timeline.js";
 import { attachExecution, executable } from "./execute.js";
+import { serverRunBlock } from "./serverexec.js";
 
 function el(tag, attrs = {}, text) {
   const e = document.createElement(tag);
@@ -217,7 +218,8 @@ function reportBlock(r) {
   return box;
 }
 
-// Draws `data` (a /plan answer) into `into`. ctx: {domainInfo, followUp(command), execution?}
+// Draws `data` (a /plan answer) into `into`. ctx: {domainInfo, followUp(command), execution?,
+// serverRun? ({domain}: the plan may be run on the server, serverexec.js)}
 // (execution: execute.js's context; without it the plan cannot be executed from this turn).
 export function renderAnswer(into, data, ctx) {
   const t = data.trajectory || {};
@@ -263,6 +265,7 @@ export function renderAnswer(into, data, ctx) {
     }
   }
   if (api && canRun) attachExecution(into, t, api, ctx.execution);
+  if (canRun && ctx.serverRun && data.state_plan) into.appendChild(serverRunBlock(data, ctx.serverRun));
   if (t.diff) into.appendChild(diffBlock(t, data.previous_goal));
   if (t.network || t.controllability) into.appendChild(flexibilityBlock(t));
   const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);

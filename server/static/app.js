@@ -11,6 +11,7 @@ import { executable } from "./execute.js";
 import { clock, seconds } from "./timeline.js";
 import * as store from "./store.js";
 import { initTeam, domainChanged } from "./domains.js";
+import { initServerExec } from "./serverexec.js";
 
 const $ = (id) => document.getElementById(id);
 const LIMIT = 8000;  // bytes of UTF-8, as the server counts (translator/pipeline.cpp)
@@ -206,7 +207,7 @@ async function send(command, { fresh = false } = {}) {
   }
   section.dataset.session = state.session || "";
   renderAnswer(turn, data, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c),
-    execution: executionContext(turn, data) });
+    execution: executionContext(turn, data), serverRun: { domain: section.dataset.domain } });
   announce(`Answer: ${turn.querySelector(".summary")?.textContent || ""}`);
   if (state.session) store.addTurn(state.session, section.dataset.domain, { command, answer: data, at });
   if ($("command").value.trim() === command) $("command").value = "";
@@ -257,7 +258,7 @@ async function replanFrom(fromTurn, data, body, meta) {
   const answer = { trajectory: t, state_plan: data.state_plan, previous_goal: data.trajectory?.goal_reached_at };
   if (t.session) answer.session = t.session;
   renderAnswer(turn, answer, { domainInfo: await domainInfo(section.dataset.domain), followUp: (c) => send(c),
-    execution: executionContext(turn, answer, meta.carry) });
+    execution: executionContext(turn, answer, meta.carry), serverRun: { domain: section.dataset.domain } });
   announce(`Replanned: ${turn.querySelector(".summary")?.textContent || ""}`);
   if (inSession)
     store.addTurn(state.session, section.dataset.domain, { command: "(replan)", label: meta.label, answer,
@@ -407,6 +408,7 @@ async function init() {
     domainChanged($("domain").value);
   });
   initTeam({ currentDomain: () => $("domain").value, onSaved: reloadDomains });
+  initServerExec();
   updateCounter();
   await restore();
   document.body.dataset.ready = "1";
