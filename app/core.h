@@ -54,6 +54,9 @@ struct CoreConfig {
   int session_idle_s = 1800;
   int max_executions = 1000;           // stored at once (running and ended)
   int execution_idle_s = 7 * 86400;    // an execution untouched this long is dropped
+  // A replica's claim on a running execution lasts this long unless renewed; with a shared
+  // (Redis) store another replica takes over an execution whose claim ran out.
+  long execution_lease_ms = 3000;
   bool demo = false;
   LlmConfig llm;
   // Adapters registered before the stored executions resume (as SetCommandSink would), so that a

@@ -49,21 +49,32 @@ struct Executions::Live {
   bool ended = false;
   std::atomic<bool> cancel{false};  // a stop or a shutdown: the replan's solver is killed
   std::atomic<bool> shutdown{false};
+  std::atomic<bool> let_go{false};  // another replica carries it now
+  long persisted_ms = 0;            // the last write (a claim lasts lease_ms from it)
   std::mutex mu;
   std::condition_variable cv;
   std::thread thread;
 };
 
-Executions::Executions(Core& core, std::unique_ptr<SessionStore> store)
-    : core_(core), store_(std::move(store)) {}
+Executions::Executions(Core& core, std::unique_ptr<SessionStore> store, long lease_ms, bool shared)
+    : core_(core), store_(std::move(store)), lease_ms_(lease_ms), shared_(shared), me_(RandomHex(8)) {}
 
 Executions::~Executions() { StopAll(); }
 
 void Executions::StopAll() {
+  std::thread scanner;
+  {
+    std::lock_guard<std::mutex> lock(scan_mu_);
+    scan_stop_ = true;
+    scanner = std::move(scanner_);  // one caller joins it
+  }
+  scan_cv_.notify_all();
+  if (scanner.joinable()) scanner.join();
   std::vector<std::shared_ptr<Live>> all;
   {
     std::lock_guard<std::mutex> lock(mu_);
     for (auto& [id, l] : live_) all.push_back(l);
+    all.insert(all.end(), retired_.begin(), retired_.end());
   }
   for (auto& l : all) {
     {
@@ -88,7 +99,7 @@ void Executions::StopAll() {
 std::shared_ptr<Executions::Live> Executions::Find(const std::string& id) {
   std::lock_guard<std::mutex> lock(mu_);
   auto it = live_.find(id);
-  return it == live_.end() ? nullptr : it->second;
+  return it == live_.end() || it->second->let_go ? nullptr : it->second;
 }
 
 void Executions::SetSink(const std::string& adapter, std::shared_ptr<CommandSink> sink,
@@ -124,12 +135,16 @@ bool Executions::Persist(Live& live) {
   doc["events"] = std::move(events);
   doc["seq"] = live.seq;
   doc["replans"] = live.replans;
+  doc["owner"] = me_;
+  live.persisted_ms = store::NowMs();
+  doc["lease_until_ms"] = live.persisted_ms + lease_ms_;
   switch (store_->Update(live.stored)) {
     case StoreResult::kOk: return true;
     case StoreResult::kConflict:
       // Another replica wrote it: that one carries it now; this one lets go.
       spdlog::warn("execution {}: changed by another process; this one stops carrying it", live.id);
       live.shutdown = true;
+      live.let_go = true;
       return false;
     default: spdlog::error("execution {}: the execution store failed", live.id); return false;
   }
@@ -253,11 +268,21 @@ void Executions::Loop(std::shared_ptr<Live> live) {
     if (live->sim)
       if (auto s = live->sim->NextDue(live->run, now)) wake = wake ? std::min(*wake, *s) : *s;
     auto woken = [&] { return live->shutdown || live->poked || live->pending_replan.has_value(); };
-    if (!wake) {
+    // With a shared store the claim is renewed a third of a lease after the last write.
+    std::optional<long> until_ms;
+    if (wake) until_ms = live->origin_ms + static_cast<long>(std::ceil(*wake * 1000.0 / live->speed));
+    if (shared_) {
+      const long renew = live->persisted_ms + lease_ms_ / 3;
+      if (store::NowMs() >= renew) {
+        Persist(*live);
+        continue;
+      }
+      until_ms = until_ms ? std::min(*until_ms, renew) : renew;
+    }
+    if (!until_ms) {
       live->cv.wait(lk, woken);
     } else {
-      const auto at = std::chrono::system_clock::time_point(std::chrono::milliseconds(
-          live->origin_ms + static_cast<long>(std::ceil(*wake * 1000.0 / live->speed))));
+      const auto at = std::chrono::system_clock::time_point(std::chrono::milliseconds(*until_ms));
       live->cv.wait_until(lk, at, woken);
     }
   }
@@ -271,7 +296,9 @@ void Executions::Loop(std::shared_ptr<Live> live) {
 void Executions::Launch(std::shared_ptr<Live> live) {
   {
     std::lock_guard<std::mutex> lock(mu_);
-    live_[live->id] = live;
+    auto& slot = live_[live->id];
+    if (slot) retired_.push_back(slot);  // one this replica let go: its thread is joined at the end
+    slot = live;
   }
   live->thread = std::thread([this, live] { Loop(live); });
 }
@@ -308,49 +335,84 @@ std::variant<std::string, Error> Executions::Start(std::shared_ptr<const Domain>
   return live->id;
 }
 
-int Executions::Resume(
-    const std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>& domain_of) {
+int Executions::Resume(DomainOf domain_of) {
+  domain_of_ = std::move(domain_of);
+  const int n = Claim(/*at_start=*/true);
+  if (shared_) scanner_ = std::thread([this] { Scan(); });
+  return n;
+}
+
+// With a shared store, every half lease: the running executions whose claim ran out (their
+// replica died) are claimed and carried on here.
+void Executions::Scan() {
+  std::unique_lock<std::mutex> lock(scan_mu_);
+  while (!scan_stop_) {
+    scan_cv_.wait_for(lock, std::chrono::milliseconds(lease_ms_ / 2), [&] { return scan_stop_; });
+    if (scan_stop_) break;
+    lock.unlock();
+    Claim(/*at_start=*/false);
+    lock.lock();
+  }
+}
+
+int Executions::Claim(bool at_start) {
   auto ids = store_->List();
   if (auto* e = std::get_if<Error>(&ids)) {
     spdlog::error("executions: cannot list the stored ones: {}", e->message);
     return 0;
   }
-  int resumed = 0;
+  int claimed = 0;
   for (const auto& id : std::get<std::vector<std::string>>(ids)) {
+    if (Find(id)) continue;
     auto got = store_->Get(id);
     auto* s = std::get_if<std::optional<StoredSession>>(&got);
     if (!s || !*s || (**s).doc.value("run", Json::object()).value("state", "") != "running") continue;
-    const Json& doc = (**s).doc;
-    auto dom = domain_of(doc);
-    if (auto* e = std::get_if<Error>(&dom)) {
-      spdlog::error("execution {}: cannot resume: {}", id, e->message);
-      continue;
-    }
-    auto live = std::make_shared<Live>(std::get<std::shared_ptr<const Domain>>(dom));
-    if (auto e = live->run.FromJson(doc["run"])) {
-      spdlog::error("execution {}: cannot resume: {}", id, e->message);
-      continue;
-    }
-    auto opts = ParseRequestOptions(doc.value("options", Json::object()));
-    if (auto* o = std::get_if<RequestOptions>(&opts)) live->options = *o;
-    live->id = id;
-    live->stored = **s;
-    live->adapter = doc.value("adapter", "sim");
-    live->speed = doc.value("speed", 1.0);
-    live->origin_ms = doc.value("origin_ms", 0L);
-    live->replans = doc.value("replans", 0L);
-    live->seq = doc.value("seq", 0L);
-    for (const auto& e : doc.value("events", Json::array()))
-      live->events.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
-    if (live->adapter == "sim") {
-      Diagnostics diags;
-      auto so = exec::ParseSimOptions(doc.value("sim", Json()), "/sim", diags);
-      live->sim.emplace(so.value_or(exec::SimOptions{}), live->domain->time_resolution);
-    }
+    StoredSession stored = **s;
+    // A file of this process alone (SQLite): what runs in it was this server's before a restart.
+    // A shared store: another replica's while its claim lasts.
+    if ((shared_ || !at_start) && stored.doc.value("lease_until_ms", 0L) > store::NowMs()) continue;
+    auto live = LiveFrom(stored);
+    if (!live) continue;
+    if (!Persist(*live)) continue;  // another replica claimed it first
+    spdlog::info("{}", Json({{"event", "execution_claimed"}, {"execution", id},
+                             {"from", stored.doc.value("owner", "")}, {"at_start", at_start}}).dump());
     Launch(live);
-    ++resumed;
+    ++claimed;
   }
-  return resumed;
+  return claimed;
+}
+
+std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredSession& stored) {
+  const Json& doc = stored.doc;
+  const std::string& id = stored.id;
+  auto dom = domain_of_ ? domain_of_(doc) : std::variant<std::shared_ptr<const Domain>, Error>(
+                                                Error{ErrorCode::kInternal, "no domain resolver", {}});
+  if (auto* e = std::get_if<Error>(&dom)) {
+    spdlog::error("execution {}: cannot resume: {}", id, e->message);
+    return nullptr;
+  }
+  auto live = std::make_shared<Live>(std::get<std::shared_ptr<const Domain>>(dom));
+  if (auto e = live->run.FromJson(doc["run"])) {
+    spdlog::error("execution {}: cannot resume: {}", id, e->message);
+    return nullptr;
+  }
+  auto opts = ParseRequestOptions(doc.value("options", Json::object()));
+  if (auto* o = std::get_if<RequestOptions>(&opts)) live->options = *o;
+  live->id = id;
+  live->stored = stored;
+  live->adapter = doc.value("adapter", "sim");
+  live->speed = doc.value("speed", 1.0);
+  live->origin_ms = doc.value("origin_ms", 0L);
+  live->replans = doc.value("replans", 0L);
+  live->seq = doc.value("seq", 0L);
+  for (const auto& e : doc.value("events", Json::array()))
+    live->events.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
+  if (live->adapter == "sim") {
+    Diagnostics diags;
+    auto so = exec::ParseSimOptions(doc.value("sim", Json()), "/sim", diags);
+    live->sim.emplace(so.value_or(exec::SimOptions{}), live->domain->time_resolution);
+  }
+  return live;
 }
 
 namespace {
@@ -425,7 +487,10 @@ std::variant<Json, Error> Executions::Report(const std::string& id, const Json& 
   if (!live) {
     auto got = Get(id);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    return Error{ErrorCode::kConflict, "the execution has ended (" + std::get<Json>(got).value("state", "?") + ")", {}};
+    const std::string state = std::get<Json>(got).value("state", "?");
+    if (state == "running")  // another replica carries it (shared store): only it stores reports
+      return Error{ErrorCode::kBusy, "the execution is carried by another replica; send the report again", {}};
+    return Error{ErrorCode::kConflict, "the execution has ended (" + state + ")", {}};
   }
   std::lock_guard<std::mutex> lk(live->mu);
   if (live->run.state() != exec::State::kRunning || live->shutdown)

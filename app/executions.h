@@ -23,11 +23,15 @@ namespace ctb::app {
 
 class Executions {
  public:
-  Executions(Core& core, std::unique_ptr<SessionStore> store);
+  // lease_ms: how long this replica's claim on an execution lasts unless renewed; shared: the
+  // store is shared with other replicas (Redis), so claims are renewed and expired ones taken over.
+  Executions(Core& core, std::unique_ptr<SessionStore> store, long lease_ms, bool shared);
   ~Executions();  // stops every thread (executions stay stored and resume at the next start)
 
-  // Resumes the running executions of the store (at start-up); how many.
-  int Resume(const std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>& domain_of);
+  using DomainOf = std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>;
+  // Resumes the running executions of the store at start-up (with a shared store only those whose
+  // claim ran out) and, with a shared store, keeps taking over expired ones; how many at start.
+  int Resume(DomainOf domain_of);
 
   // A new execution of `plan` (an answer with network); the stored document's request parts in
   // `doc` ({"domain"?, "action_model"?, "state_plan", "adapter", "speed", "sim", "options"}).
@@ -53,12 +57,24 @@ class Executions {
   void Emit(Live& live, const std::string& name, Json data);
   bool Persist(Live& live);
   std::shared_ptr<CommandSink> SinkFor(const Live& live);
+  int Claim(bool at_start);
+  void Scan();
+  std::shared_ptr<Live> LiveFrom(const StoredSession& stored);
 
   Core& core_;
   std::unique_ptr<SessionStore> store_;
   std::mutex mu_;
   std::map<std::string, std::shared_ptr<Live>> live_;
+  std::vector<std::shared_ptr<Live>> retired_;  // let go and replaced by a later claim
   std::map<std::string, std::shared_ptr<CommandSink>> sinks_;  // by adapter, or "grpc:<id>"
+  const long lease_ms_;
+  const bool shared_;
+  const std::string me_;  // this replica, in the documents it claims
+  DomainOf domain_of_;
+  std::thread scanner_;
+  std::mutex scan_mu_;
+  std::condition_variable scan_cv_;
+  bool scan_stop_ = false;
 };
 
 }  // namespace ctb::app

@@ -18,6 +18,7 @@
 
 #include "client/commands.h"
 #include "client/execute_sample.h"
+#include "client/execute_server.h"
 #include "client/replan_common.h"
 #include "planner/replan/replan.h"
 
@@ -36,6 +37,9 @@ struct ExecuteCliOptions {
   std::string sample, dispatch = "dynamic", controllability;
   unsigned seed = 1;
   int runs = 1;
+  // --server: the execution runs in that server on its simulated team (execute_server.h).
+  std::string server;
+  double fail = 0;
 };
 
 struct Fault {
@@ -307,6 +311,15 @@ class Executor {
 };
 
 int RunExecute(const ExecuteCliOptions& o) {
+  if (!o.server.empty()) {
+    if (!o.sample.empty() || !o.faults.empty() || o.faults_stdin) {
+      std::cerr << "error: --server runs the execution in the server; --sample and --fault are for local runs "
+                   "(faults in the server: --fail)\n";
+      return 2;
+    }
+    return RunServerExecute({o.server, o.domain, o.file, o.objective, o.speed > 0 ? o.speed : 1, o.fail, o.seed,
+                             o.json, o.time_limit_ms});
+  }
   if (!o.sample.empty()) {
     SampleOptions s{o.domain, o.file, o.config_dir, o.objective, o.controllability, o.sample,
                     o.dispatch, o.seed, o.runs, o.json, o.time_limit_ms};
@@ -351,7 +364,12 @@ Runner AddExecute(CLI::App& app) {
       ->check(CLI::IsMember({"uniform", "distribution"}));
   sub->add_option("--runs", o->runs, "With --sample: how many executions (default 1)")
       ->check(CLI::Range(1, 1000000));
-  sub->add_option("--seed", o->seed, "With --sample: the random seed (default 1)");
+  sub->add_option("--seed", o->seed, "With --sample or --server: the random seed (default 1)");
+  sub->add_option("--server", o->server,
+                  "Run the execution in a ctburton server on its simulated team and follow its events, "
+                  "e.g. http://127.0.0.1:8080");
+  sub->add_option("--fail", o->fail, "With --server: the chance that a commanded move fails (default 0)")
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--dispatch", o->dispatch,
                   "With --sample: dynamic (default: what happened decides what starts next) or "
                   "fixed (every start at its planned time)")

@@ -15,7 +15,7 @@ std::variant<Json, Error> PostJson(const std::string& server, const std::string&
     return Error{ErrorCode::kUnavailable,
                  "cannot reach " + server + ": " + httplib::to_string(res.error()), {}};
   Json j = Json::parse(res->body, nullptr, false);
-  if (res->status == 200 && !j.is_discarded()) return j;
+  if (res->status / 100 == 2 && !j.is_discarded()) return j;  // 200, or 201 (created)
   Error e{ErrorCode::kInternal, "server answered HTTP " + std::to_string(res->status), {}};
   if (j.is_object() && j.contains("error") && j["error"].is_object()) {
     const Json& err = j["error"];

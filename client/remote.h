@@ -9,7 +9,7 @@
 
 namespace ctb::cli {
 
-// POSTs body to URL + path; returns the JSON answer of a 200, or the server's error (its
+// POSTs body to URL + path; returns the JSON answer of a 2xx, or the server's error (its
 // {"error": {...}} turned back into an Error with the HTTP status's code), or a connection
 // error (kUnavailable).
 std::variant<Json, Error> PostJson(const std::string& server, const std::string& path,

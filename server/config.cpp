@@ -33,7 +33,7 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
     r.CheckKeys({"host", "port", "config_dir", "prompts_dir", "static_dir", "minizinc", "recordings_dir",
                  "max_body_bytes", "max_network_body_bytes", "read_timeout_s", "write_timeout_s", "solver_workers",
                  "solver_queue", "default_time_limit_ms", "max_time_limit_ms", "max_horizon_limit",
-                 "max_sessions", "session_idle_s", "shutdown_grace_ms", "body_timeout_s", "keep_alive_s",
+                 "max_sessions", "session_idle_s", "execution_lease_ms", "shutdown_grace_ms", "body_timeout_s", "keep_alive_s",
                  "max_connections", "max_connections_per_address", "solver_memory_mb", "budget",
                  "data_dir", "session_store", "demo", "grpc_port", "grpc_host", "grpc_tls_cert",
                  "grpc_tls_key", "max_grpc_streams_per_client", "api_keys_file", "mqtt_url", "mqtt_client_id"});
@@ -91,6 +91,7 @@ std::variant<ServerConfig, Error> ServerConfig::Load(const std::string& file) {
     num("max_horizon_limit", c.max_horizon_limit);
     num("max_sessions", c.max_sessions);
     num("session_idle_s", c.session_idle_s);
+    num("execution_lease_ms", c.execution_lease_ms);
     num("shutdown_grace_ms", c.shutdown_grace_ms);
     num("body_timeout_s", c.body_timeout_s);
     num("keep_alive_s", c.keep_alive_s);
@@ -171,6 +172,7 @@ std::optional<Error> ServerConfig::Validate() const {
   range("/max_horizon_limit", max_horizon_limit, 1, 1024);
   range("/max_sessions", max_sessions, 1, 10000000);
   range("/session_idle_s", session_idle_s, 1, 365L * 24 * 3600);
+  range("/execution_lease_ms", execution_lease_ms, 300, 600000);
   range("/shutdown_grace_ms", shutdown_grace_ms, 0, 3600000);
   range("/budget/max_automata", budget.max_automata, 1, 64);
   range("/budget/max_locations_per_automaton", budget.max_locations_per_automaton, 1, 4096);

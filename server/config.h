@@ -40,6 +40,9 @@ struct ServerConfig {
   bool demo = false;                // answer /plan and /translate from recordings_dir without an LLM
   int max_sessions = 1000;
   int session_idle_s = 1800;
+  // How long a replica's claim on an execution lasts without renewal (shared Redis store: another
+  // replica takes over an execution whose claim has run out).
+  long execution_lease_ms = 3000;
   int shutdown_grace_ms = 5000;    // in-flight work gets this long, then is cancelled
   // gRPC front end (contract section 10): off when grpc_port < 0; 0 picks a free port.
   int grpc_port = -1;

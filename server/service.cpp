@@ -40,6 +40,7 @@ app::CoreConfig CoreConfigOf(const ServerConfig& c) {
   o.session_store = c.session_store;
   o.max_sessions = c.max_sessions;
   o.session_idle_s = c.session_idle_s;
+  o.execution_lease_ms = c.execution_lease_ms;
   o.demo = c.demo;
   o.llm = c.llm;
   return o;

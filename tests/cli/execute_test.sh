@@ -171,4 +171,42 @@ if [ $rc = 3 ] && [[ "$out" == *"not dynamically controllable"* ]]; then
   ok "a plan that is not controllable is not executed (exit 3) unless --controllability none"
 else bad "uncontrollable plan (rc=$rc): $out"; fi
 
+# --server: the execution runs in a real `ctburton serve` on its simulated team (contract 14);
+# "Rescue person 1 fast" with 30 % of moves failing and seed 2 fails one move, replans and
+# succeeds; the events come back one JSON object a line, then the summary; exit 0.
+PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+CTB_CONFIG_DIR=$SRC/config "$BIN" serve --port "$PORT" --data-dir "$T/data" > /dev/null 2> "$T/serve.log" &
+SERVER=$!
+python3 - "$PORT" <<'PY'
+import sys, time, urllib.request
+for _ in range(400):
+    try:
+        urllib.request.urlopen(f"http://127.0.0.1:{sys.argv[1]}/healthz", timeout=1)
+        break
+    except Exception:
+        time.sleep(0.05)
+PY
+cat > "$T/fast.json" <<'JSON'
+{"initial_state": {"robot1": "outside", "robot2": "outside", "door1": "closed", "door2": "closed", "door3": "open"},
+ "end_state": {"maintenance_constraint": "true", "goal_constraint": "robot1[i+1]==rescuedPerson1"},
+ "objective": "makespan"}
+JSON
+"$BIN" execute --server "http://127.0.0.1:$PORT" --domain search_rescue "$T/fast.json" --speed 50 \
+  --fail 0.3 --seed 2 --json > "$T/server.jsonl" 2> "$T/server_err.txt"
+rc=$?
+if [ $rc = 0 ] && python3 - "$T/server.jsonl" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+events = [l["event"] for l in lines[:-1]]
+assert events[0] == "dispatched" and events[-1] == "finished", events
+assert "replanned" in events and any(l["event"] == "reported" and "failed" in l["data"] for l in lines[:-1]), events
+assert lines[-1]["state"] == "succeeded" and lines[-1]["replans"] == 1, lines[-1]
+PY
+then ok "--server: the server carries it out, a failed move replans, succeeded (exit 0)"
+else bad "--server (rc=$rc)"; cat "$T/server.jsonl" "$T/server_err.txt"; fi
+out=$("$BIN" execute --server "http://127.0.0.1:$PORT" --domain nosuch "$T/fast.json" 2>&1); rc=$?
+if [ $rc = 3 ] && [[ "$out" == *"nosuch"* ]]; then ok "--server with an unknown domain: the server's error"
+else bad "--server unknown domain (rc=$rc): $out"; fi
+kill $SERVER; wait $SERVER 2>/dev/null
+
 exit $fail

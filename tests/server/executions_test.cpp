@@ -257,6 +257,59 @@ TEST(Executions, DurationsSeenAreCountedAndASuggestedDomainAdmitsThem) {
   EXPECT_EQ(unknown->status, 404);
 }
 
+// Two replicas on one redis-server (contract 14): an execution started on A goes on in B when A
+// is killed (A's claim runs out after a second); every acknowledged report stays, no command is
+// sent twice, and the run succeeds. While A lives, B shows the execution but does not carry it.
+TEST(Executions, ASecondReplicaOnRedisTakesOverFromAKilledOne) {
+  ASSERT_TRUE(testing::Executable("/usr/bin/redis-server")) << "bash scripts/install-deps.sh --test";
+  const std::string dir = testing::TempDir("executions-redis");
+  const int redis_port = testing::FreeLoopbackPort();
+  pid_t redis = testing::Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
+                                "--save", "", "--appendonly", "no", "--dir", dir},
+                               dir + "/redis.log");
+  ASSERT_TRUE(testing::WaitForPort(redis_port, 5000)) << "redis-server did not start";
+  const std::vector<std::string> store = {"--session-store", "redis://127.0.0.1:" + std::to_string(redis_port) + "/5"};
+  const Json config = {{"execution_lease_ms", 1000}};
+  std::string id;
+  Json before;
+  ServerProcess b(config, store);
+  auto cb = b.Client();
+  {
+    ServerProcess a(config, store);
+    auto ca = a.Client();
+    int status = 0;
+    Json started = Post(ca, "/executions", RescueRequest(4, {{"adapter", "sim"}}), &status);
+    ASSERT_EQ(status, 201) << started.dump();
+    id = started["execution"];
+    before = WaitFor(ca, id, [](const Json& x) { return Count(x, "reported") >= 2 || Ended(x); });
+    ASSERT_EQ(before["state"], "running") << "too fast to kill mid-way";
+    Json seen = Get(cb, "/executions/" + id);
+    EXPECT_EQ(seen["state"], "running") << "B sees it in the shared store";
+    int status_b = 0;
+    Post(cb, "/executions/" + id + "/reports", {{"automaton", "robot1"}, {"location", "x"}, {"time", 0}}, &status_b);
+    EXPECT_EQ(status_b, 503) << "B does not carry it while A does";
+    a.Kill();
+  }
+  Json after = WaitFor(cb, id, Ended);
+  EXPECT_EQ(after["state"], "succeeded") << after.value("why", "");
+  std::set<std::string> history;
+  for (const auto& h : after["history"]) history.insert(h["automaton"].get<std::string>() + h["to"].get<std::string>());
+  for (const auto& h : before["history"])
+    EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
+  std::set<std::string> sent;
+  for (const auto& e : after["events"])
+    if (e["event"] == "dispatched") {
+      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
+    }
+  // Every transition of the plan carried out (a replan after the takeover may add observed
+  // jumps, which are no transitions).
+  std::size_t planned = 0;
+  for (const auto& t : after["plan"]["transitions"]) planned += !t.value("observed", false);
+  EXPECT_EQ(after["history"].size(), planned);
+  testing::StopChild(redis);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {
   ServerProcess server;
   auto c = server.Client();
