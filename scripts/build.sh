@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Configures and builds into ./build: Release (-O2) by default; CTB_BUILD_TYPE=RelWithDebInfo adds
-# debug info for profiling and debugging (a fresh build then takes about a third longer). Uses
+# debug info for profiling and debugging (a fresh build then takes about a third longer);
+# CTB_BUILD_TYPE=Check (-O1) is what scripts/test.sh builds. Uses
 # ccache when it is installed (several work trees then share compiled objects; CCACHE_BASEDIR
 # makes their paths relative).
 set -euo pipefail
