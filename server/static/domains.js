@@ -106,10 +106,43 @@ async function loadDocument(name) {
   status("");
 }
 
+// How long each transition took in this team's executions on the server (contract 14), and the
+// suggested revision that admits it, which the user may load into the editor and save.
+async function loadDurations(name) {
+  const box = $("team-durations-body");
+  box.replaceChildren();
+  const r = await fetch(`/domains/${encodeURIComponent(name)}/durations`).catch(() => null);
+  const data = r && r.ok ? await r.json().catch(() => null) : null;
+  const note = (t) => Object.assign(document.createElement("p"), { className: "note", textContent: t });
+  if (!data) return box.appendChild(note("the durations could not be read"));
+  if (!data.transitions.length) return box.appendChild(note("no execution of this team has run on the server yet"));
+  const table = document.createElement("table");
+  table.className = "durations";
+  const row = (cells, tag) => {
+    const tr = document.createElement("tr");
+    for (const c of cells) tr.appendChild(Object.assign(document.createElement(tag), { textContent: String(c) }));
+    return tr;
+  };
+  table.appendChild(row(["automaton", "transition", "seen", "min s", "max s", "mean s"], "th"));
+  for (const x of data.transitions) table.appendChild(row([x.automaton, `${x.from} → ${x.to}`, x.count, x.min, x.max, x.mean], "td"));
+  box.appendChild(table);
+  if (!data.suggested) return box.appendChild(note("what was seen fits the team as it is"));
+  const use = Object.assign(document.createElement("button"), { type: "button", id: "team-use-durations",
+    textContent: "Load the revision that admits them into the editor" });
+  use.addEventListener("click", () => {
+    const doc = { ...data.suggested };
+    if (!/_learned$/.test(doc.name)) doc.name = `${doc.name}_learned`;
+    setEditor(doc);
+    $("team-edit").open = true;
+    status("a revision from what was seen (bounds widened, uncertain where they spread): check it, then save", "ok");
+  });
+  box.appendChild(use);
+}
+
 export async function showTeam(name) {
   if (!name) return;
   $("team-title").textContent = `Team: ${name}`;
-  await Promise.all([loadDiagram(name), loadDocument(name)]);
+  await Promise.all([loadDiagram(name), loadDocument(name), loadDurations(name)]);
 }
 
 // Parses the editor; a syntax error is shown at its line.

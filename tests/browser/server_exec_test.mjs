@@ -88,6 +88,15 @@ try {
   const rows = await page.locator("table.durations tr").count();
   check("the durations seen are listed", rows >= 4, String(rows));
 
+  // The team panel shows them too (and whether the team needs a revision).
+  await page.click("#team-toggle");
+  await page.click("#team-durations summary");
+  await page.waitForSelector("#team-durations-body table.durations tr td", { timeout: 10000 });
+  check("the team panel lists the durations seen", await page.locator("#team-durations-body table.durations tr").count() >= 4);
+  check("the team panel says whether they fit the team",
+        /fits the team|Load the revision/.test(await page.textContent("#team-durations-body")));
+  await page.click("#team-toggle");
+
   // The same execution over the API agrees.
   const id = await page.evaluate(() => JSON.parse(localStorage.getItem("ctburton.execution.v1")).id);
   const v = await (await fetch(`${base}/executions/${id}`)).json();
