@@ -250,7 +250,9 @@ void Executions::Loop(std::shared_ptr<Live> live) {
     exec::Decision d = live->run.Advance(now);
     for (const auto& c : d.dispatch) Emit(*live, "dispatched", c.ToJson());
     if (!d.dispatch.empty()) {
-      Persist(*live);  // stored before sent: a restart never sends a command twice
+      // Stored before sent: a restart never sends a command twice, and a replica that lost its
+      // claim (the write conflicts) sends nothing.
+      if (!Persist(*live)) continue;
       if (auto sink = SinkFor(*live)) {
         lk.unlock();
         for (const auto& c : d.dispatch) sink->Send(live->id, c.ToJson());
