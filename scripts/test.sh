@@ -14,7 +14,8 @@ bash scripts/install-deps.sh --test
 # The browser test drives Debian's Chromium with playwright-core from the npm registry.
 (cd tests/browser && npm install --no-audit --no-fund --loglevel=error)
 # -O1 (build type Check, CMakeLists.txt): the fresh-clone run must stay well under 15 minutes.
-CTB_BUILD_TYPE=${CTB_BUILD_TYPE:-Check} bash scripts/build.sh
+# -j3 on 2 cores keeps both busy while one job links or waits on the disk.
+CTB_BUILD_TYPE=${CTB_BUILD_TYPE:-Check} bash scripts/build.sh -j3
 cd build
 for i in $(seq 1 "$runs"); do
   [ "$runs" -gt 1 ] && echo "== run $i of $runs (-j$jobs)"
