@@ -276,6 +276,10 @@ class Core {
   // {"stored": true, "duplicate": bool}. Located kInvalidInput; kConflict once it has ended.
   std::variant<Json, Error> ReportExecution(const std::string& id, const Json& report);
   std::optional<Error> StopExecution(const std::string& id);
+  // A new goal while it runs (contract 14: a changed goal replans): the state plan is checked
+  // against the execution's domain (pointers relative to it), stored, and the future replanned
+  // from what happened. kNotFound, kConflict once it has ended.
+  std::optional<Error> ChangeExecutionStatePlan(const std::string& id, const Json& state_plan);
   // The events after `after` (seq), waiting up to `wait_ms` for one; `ended` once the execution
   // has ended and every event was given. kNotFound when unknown.
   std::variant<std::vector<ExecutionEvent>, Error> ExecutionEvents(const std::string& id, long after,

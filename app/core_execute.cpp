@@ -106,6 +106,14 @@ std::variant<Json, Error> Core::ReportExecution(const std::string& id, const Jso
 
 std::optional<Error> Core::StopExecution(const std::string& id) { return impl_->executions->Stop(id); }
 
+std::optional<Error> Core::ChangeExecutionStatePlan(const std::string& id, const Json& state_plan) {
+  auto dom = impl_->executions->DomainOfLive(id);
+  if (auto* e = std::get_if<Error>(&dom)) return *e;
+  auto sp = impl_->CheckPlan(state_plan, *std::get<std::shared_ptr<const Domain>>(dom), "");
+  if (auto* e = std::get_if<Error>(&sp)) return *e;
+  return impl_->executions->ChangeStatePlan(id, state_plan);
+}
+
 std::variant<std::vector<ExecutionEvent>, Error> Core::ExecutionEvents(const std::string& id, long after,
                                                                       long wait_ms, bool* ended) {
   return impl_->executions->Events(id, after, wait_ms, ended);

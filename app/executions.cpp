@@ -505,6 +505,40 @@ std::variant<Json, Error> Executions::Report(const std::string& id, const Json& 
   return out;
 }
 
+std::variant<std::shared_ptr<const Domain>, Error> Executions::DomainOfLive(const std::string& id) {
+  auto live = Find(id);
+  if (!live) {
+    auto got = Get(id);
+    if (auto* e = std::get_if<Error>(&got)) return *e;
+    return Error{ErrorCode::kConflict, "the execution has ended or is carried by another replica", {}};
+  }
+  std::lock_guard<std::mutex> lk(live->mu);
+  if (live->run.state() != exec::State::kRunning)
+    return Error{ErrorCode::kConflict, std::string("the execution has ended (") + exec::StateName(live->run.state()) + ")", {}};
+  return live->domain;
+}
+
+std::optional<Error> Executions::ChangeStatePlan(const std::string& id, const Json& state_plan) {
+  auto live = Find(id);
+  if (!live) return Error{ErrorCode::kConflict, "the execution has ended or is carried by another replica", {}};
+  {
+    std::lock_guard<std::mutex> lk(live->mu);
+    if (live->run.state() != exec::State::kRunning)
+      return Error{ErrorCode::kConflict, std::string("the execution has ended (") + exec::StateName(live->run.state()) + ")", {}};
+    const Json before = live->stored.doc["state_plan"];
+    live->stored.doc["state_plan"] = state_plan;
+    if (!Persist(*live)) {
+      live->stored.doc["state_plan"] = before;
+      return Error{ErrorCode::kUnavailable, "the execution store failed; the new state plan was not taken", {}};
+    }
+    live->pending_replan = "the state plan changed";
+    live->replans_in_a_row = 0;
+    live->poked = true;
+  }
+  live->cv.notify_all();
+  return std::nullopt;
+}
+
 std::optional<Error> Executions::Stop(const std::string& id) {
   auto live = Find(id);
   if (!live) {

@@ -40,6 +40,10 @@ class Executions {
   std::variant<Json, Error> Get(const std::string& id);
   std::variant<Json, Error> Report(const std::string& id, const Json& report);
   std::optional<Error> Stop(const std::string& id);
+  // The execution's domain, for checking a new state plan; kNotFound / kConflict (ended).
+  std::variant<std::shared_ptr<const Domain>, Error> DomainOfLive(const std::string& id);
+  // Stores the (checked) state plan and asks for a replan.
+  std::optional<Error> ChangeStatePlan(const std::string& id, const Json& state_plan);
   std::variant<std::vector<ExecutionEvent>, Error> Events(const std::string& id, long after, long wait_ms,
                                                          bool* ended);
   void SetSink(const std::string& adapter, std::shared_ptr<CommandSink> sink, const std::string& execution);

@@ -405,6 +405,12 @@ class HttpFrontEnd::Impl {
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
       SendJson(s, 200, {{"execution", q.matches[1]}, {"state", std::get<Json>(r)["state"]}});
     }));
+    svr_.Put(R"(/executions/([^/]{1,256})/state_plan)", Wrap("/executions/{id}/state_plan", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      if (auto e = core_.ChangeExecutionStatePlan(q.matches[1], *body)) return SendError(s, *e);
+      SendJson(s, 200, {{"execution", q.matches[1]}, {"replanning", true}});
+    }));
     svr_.Post(R"(/executions/([^/]{1,256})/reports)", Wrap("/executions/{id}/reports", [this](auto& q, auto& s) {
       auto body = Body(q, s);
       if (!body) return;

@@ -310,6 +310,54 @@ TEST(Executions, ASecondReplicaOnRedisTakesOverFromAKilledOne) {
   std::filesystem::remove_all(dir);
 }
 
+// A changed goal while it runs (contract 14): robot 1 alone to person 1 instead of both persons;
+// the state plan is checked at its own pointers, the future is replanned from what happened
+// (robot 2's move stays in the history), and a bad one is refused while the execution goes on.
+TEST(Executions, AChangedGoalReplansFromWhatHappened) {
+  ServerProcess server;
+  auto c = server.Client();
+  int status = 0;
+  Json started = Post(c, "/executions", RescueRequest(1, {{"adapter", "external"}}), &status);
+  ASSERT_EQ(status, 201) << started.dump();
+  const std::string id = started["execution"];
+  WaitFor(c, id, [](const Json& x) { return Count(x, "dispatched") >= 2; });
+  Post(c, "/executions/" + id + "/reports", {{"automaton", "robot2"}, {"location", "goingToDoor2"}, {"time", 0}}, &status);
+  ASSERT_EQ(status, 200);
+  Json bad = Example("search_rescue/test2.json");
+  bad["end_state"]["goal_constraint"] = "robot1l[i+1]==onTheMoon";
+  auto r = c.Put(("/executions/" + id + "/state_plan").c_str(), bad.dump(), "application/json");
+  ASSERT_TRUE(r);
+  testing::Record("PUT", "/executions/" + id + "/state_plan", r);
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(Json::parse(r->body)["error"]["path"], "/end_state/goal_constraint") << r->body;
+  const Json goal = Example("search_rescue/test2.json");
+  r = c.Put(("/executions/" + id + "/state_plan").c_str(), goal.dump(), "application/json");
+  ASSERT_TRUE(r);
+  testing::Record("PUT", "/executions/" + id + "/state_plan", r);
+  EXPECT_EQ(r->status, 200) << r->body;
+  Json v = WaitFor(c, id, [](const Json& x) { return x.value("replans", 0) >= 1 || Ended(x); });
+  EXPECT_EQ(v["state"], "running") << v.value("why", "");
+  Json replanned;
+  for (const auto& e : v["events"])
+    if (e["event"] == "replanned") replanned = e["data"];
+  EXPECT_EQ(replanned.value("why", ""), "the state plan changed");
+  bool robot2_kept = false, robot1_rescues = false;
+  for (const auto& t : v["plan"]["transitions"]) {
+    if (t["automaton"] == "robot2" && t["to"] == "goingToDoor2" && t.value("executed", false)) robot2_kept = true;
+    if (t["automaton"] == "robot1" && t["to"] == "rescuedPerson1") robot1_rescues = true;
+  }
+  EXPECT_TRUE(robot2_kept) << "what happened stays";
+  EXPECT_TRUE(robot1_rescues) << "the new goal is planned for";
+  auto stop = c.Delete(("/executions/" + id).c_str());
+  ASSERT_TRUE(stop);
+  r = c.Put(("/executions/" + id + "/state_plan").c_str(), goal.dump(), "application/json");
+  ASSERT_TRUE(r);
+  WaitFor(c, id, Ended);
+  r = c.Put(("/executions/" + id + "/state_plan").c_str(), goal.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 409) << r->body;
+}
+
 TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {
   ServerProcess server;
   auto c = server.Client();
