@@ -1,6 +1,6 @@
 // Executions on the server (contract section 14, docs/executive.md): a plan answer offers "Run on
 // the server", which starts POST /executions with the turn's domain and state plan on the
-// simulated team (a speed, a chance that a commanded move fails, a seed). The execution then
+// simulated team (a speed, a chance that a commanded move fails, a seed) or on devices over MQTT. The execution then
 // runs in the server, not in this page: the panel #server-exec follows its events
 // (GET /executions/{id}/events: commands sent, reports received, replans, the end), and a reload
 // finds it again (its id is kept in localStorage) and replays what happened. Once it has ended,
@@ -115,20 +115,23 @@ export function serverRunBlock(data, ctx) {
   for (const [v, t] of [["0", "no faults"], ["0.1", "10 % of moves fail"], ["0.3", "30 % of moves fail"]])
     fail.appendChild(el("option", { value: v }, t));
   const seed = el("input", { type: "number", min: "0", step: "1", value: "1", "aria-label": "Seed", class: "seed" });
+  const adapter = el("select", { "aria-label": "Who carries it out" });
+  for (const [v, t] of [["sim", "the simulated team"], ["mqtt", "devices over MQTT"]]) adapter.appendChild(el("option", { value: v }, t));
+  adapter.addEventListener("change", () => { fail.disabled = seed.disabled = adapter.value !== "sim"; });
   const go = el("button", { type: "button", class: "server-run-go" }, "Start on the server");
   const note = el("span", { class: "note", role: "status" });
   const speedLabel = el("label", {}, "Speed ");
   speedLabel.appendChild(speed);
   const seedLabel = el("label", {}, "seed ");
   seedLabel.appendChild(seed);
-  row.append(speedLabel, fail, seedLabel, go, note);
+  row.append(adapter, speedLabel, fail, seedLabel, go, note);
   box.appendChild(row);
-  box.appendChild(el("p", { class: "note" }, "The server solves the state plan again and carries its plan out on its simulated team; the execution goes on if you reload this page."));
+  box.appendChild(el("p", { class: "note" }, "The server solves the state plan again and carries its plan out, on its simulated team or on devices over MQTT (when it runs with --mqtt-url); the execution goes on if you reload this page."));
   go.addEventListener("click", async () => {
     go.disabled = true;
     note.textContent = "starting…";
-    const body = { domain: ctx.domain, state_plan: data.state_plan, adapter: "sim", speed: Number(speed.value),
-      sim: { fail: Number(fail.value), seed: Math.max(0, Math.floor(Number(seed.value) || 0)) } };
+    const body = { domain: ctx.domain, state_plan: data.state_plan, adapter: adapter.value, speed: Number(speed.value) };
+    if (adapter.value === "sim") body.sim = { fail: Number(fail.value), seed: Math.max(0, Math.floor(Number(seed.value) || 0)) };
     const r = await fetch("/executions", { method: "POST", headers: { "Content-Type": "application/json" },
       body: JSON.stringify(body) }).catch(() => null);
     const answer = r ? await r.json().catch(() => ({})) : {};

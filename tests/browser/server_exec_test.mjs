@@ -59,6 +59,13 @@ try {
   const run = turn.locator("details.server-run");
   check("a plan offers to run on the server", await run.count() === 1);
   await run.locator("summary").click();
+  // Without a broker the server says so, and nothing starts.
+  await run.locator("select[aria-label='Who carries it out']").selectOption("mqtt");
+  await run.locator("button.server-run-go").click();
+  await run.locator(".note[role='status']", { hasText: "not started" }).waitFor({ timeout: 10000 });
+  check("MQTT without a broker is refused with the server's reason", /MQTT/.test(await run.locator(".note[role='status']").textContent()));
+  bad.length = 0;  // that 503 was asked for
+  await run.locator("select[aria-label='Who carries it out']").selectOption("sim");
   await run.locator("select[aria-label='Speed']").selectOption("2");
   await run.locator("select[aria-label^='Chance']").selectOption("0.3");
   await run.locator("input.seed").fill("2");
