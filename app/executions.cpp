@@ -25,6 +25,20 @@ Error NotFound(const std::string& id) {
   return {ErrorCode::kNotFound, "unknown execution '" + Echo(id) + "'", {}};
 }
 
+// Events as the stored document and GET /executions/{id} hold them, and back.
+Json EventsJson(const std::vector<ExecutionEvent>& events) {
+  Json out = Json::array();
+  for (const auto& e : events) out.push_back({{"seq", e.seq}, {"event", e.name}, {"data", e.data}});
+  return out;
+}
+
+std::vector<ExecutionEvent> StoredEvents(const Json& doc) {
+  std::vector<ExecutionEvent> out;
+  for (const auto& e : doc.value("events", Json::array()))
+    out.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
+  return out;
+}
+
 }  // namespace
 
 struct Executions::Live {
@@ -128,11 +142,9 @@ void Executions::Emit(Live& live, const std::string& name, Json data) {
 }
 
 bool Executions::Persist(Live& live) {
-  Json events = Json::array();
-  for (const auto& e : live.events) events.push_back({{"seq", e.seq}, {"event", e.name}, {"data", e.data}});
   Json& doc = live.stored.doc;
   doc["run"] = live.run.ToJson();
-  doc["events"] = std::move(events);
+  doc["events"] = EventsJson(live.events);
   doc["seq"] = live.seq;
   doc["replans"] = live.replans;
   doc["owner"] = me_;
@@ -407,8 +419,7 @@ std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredSession& stor
   live->origin_ms = doc.value("origin_ms", 0L);
   live->replans = doc.value("replans", 0L);
   live->seq = doc.value("seq", 0L);
-  for (const auto& e : doc.value("events", Json::array()))
-    live->events.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
+  live->events = StoredEvents(doc);
   if (live->adapter == "sim") {
     Diagnostics diags;
     auto so = exec::ParseSimOptions(doc.value("sim", Json()), "/sim", diags);
@@ -420,8 +431,6 @@ std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredSession& stor
 namespace {
 
 Json View(const std::string& id, const Json& doc, const Json& run, double now, const std::vector<ExecutionEvent>& events) {
-  Json ev = Json::array();
-  for (const auto& e : events) ev.push_back({{"seq", e.seq}, {"event", e.name}, {"data", e.data}});
   Json v = {{"execution", id},
             {"state", run.value("state", "running")},
             {"now", now},
@@ -430,18 +439,12 @@ Json View(const std::string& id, const Json& doc, const Json& run, double now, c
             {"replans", doc.value("replans", 0L)},
             {"adapter", doc.value("adapter", "sim")},
             {"speed", doc.value("speed", 1.0)},
-            {"events", ev}};
+            {"events", EventsJson(events)}};
   if (!run.value("why", std::string()).empty()) v["why"] = run["why"];
   if (!run.value("blocked", Json::array()).empty()) v["blocked"] = run["blocked"];
   return v;
 }
 
-std::vector<ExecutionEvent> StoredEvents(const Json& doc) {
-  std::vector<ExecutionEvent> out;
-  for (const auto& e : doc.value("events", Json::array()))
-    out.push_back({e.value("seq", 0L), e.value("event", ""), e.value("data", Json())});
-  return out;
-}
 
 }  // namespace
 

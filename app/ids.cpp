@@ -50,12 +50,4 @@ std::string RandomHex(std::size_t bytes) {
   return s;
 }
 
-std::string Echo(const std::string& s, std::size_t max) {
-  if (s.size() <= max) return s;
-  std::size_t cut = max;
-  // Do not split a UTF-8 sequence: back up over continuation bytes.
-  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
-  return s.substr(0, cut) + "...";
-}
-
 }  // namespace ctb::app

@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <string>
 
+#include "planner/model/error.h"
+
 namespace ctb::app {
 
 // `bytes` random bytes from the kernel's CSPRNG (getrandom(2)), as lower-case hex. 16 bytes (128
@@ -12,8 +14,7 @@ namespace ctb::app {
 // is not random is worse than no service).
 std::string RandomHex(std::size_t bytes = 16);
 
-// A client-supplied string cut to at most `max` bytes (on a UTF-8 boundary) with "..." appended
-// when cut, for echoing in messages: a 1 MB id is never sent back whole.
-std::string Echo(const std::string& s, std::size_t max = 64);
+// A client-supplied string cut for echoing in messages (planner/model/error.h).
+using ::ctb::Echo;
 
 }  // namespace ctb::app

@@ -77,15 +77,9 @@ int RunServerExecute(const ServerExecuteOptions& o) {
                {"sim", {{"fail", o.fail}, {"seed", o.seed}}},
                {"options", {{"time_limit_ms", o.time_limit_ms}}}};
   if (!o.objective.empty()) body["options"]["objective"] = o.objective;
-  if (o.domain.find('/') != std::string::npos || o.domain.find(".json") != std::string::npos) {
-    auto dom = ReadJsonFile(o.domain, diags);
-    if (!dom) {
-      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + o.domain, diags));
-      return 2;
-    }
-    body["action_model"] = *dom;
-  } else {
-    body["domain"] = o.domain;
+  if (auto e = AddDomain(body, o.domain)) {
+    PrintError(*e);
+    return 2;
   }
   auto started = PostJson(o.server, "/executions", body, o.time_limit_ms);
   if (auto* e = std::get_if<Error>(&started)) {

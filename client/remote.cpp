@@ -39,4 +39,16 @@ std::variant<Json, Error> PostJson(const std::string& server, const std::string&
   return e;
 }
 
+std::optional<Error> AddDomain(Json& body, const std::string& domain) {
+  if (domain.find('/') == std::string::npos && domain.find(".json") == std::string::npos) {
+    body["domain"] = domain;
+    return std::nullopt;
+  }
+  Diagnostics d;
+  auto dom = ReadJsonFile(domain, d);
+  if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + domain, d);
+  body["action_model"] = *dom;
+  return std::nullopt;
+}
+
 }  // namespace ctb::cli

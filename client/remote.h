@@ -1,6 +1,7 @@
 // Talking to a running ctburton server (the `--server URL` mode of the CLI).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -14,5 +15,9 @@ namespace ctb::cli {
 // error (kUnavailable).
 std::variant<Json, Error> PostJson(const std::string& server, const std::string& path,
                                    const Json& body, long timeout_ms);
+
+// A request body's domain from a --domain flag: a path (it has a '/' or ".json") is read and sent
+// as "action_model", anything else as the name "domain". An Error when the file cannot be read.
+std::optional<Error> AddDomain(Json& body, const std::string& domain);
 
 }  // namespace ctb::cli

@@ -69,16 +69,9 @@ int RunRemoteSolve(const SolveCliOptions& o) {
     return 1;
   }
   Json body = {{"state_plan", *plan}};
-  bool is_path = o.domain.find('/') != std::string::npos || o.domain.find(".json") != std::string::npos;
-  if (is_path) {
-    auto dom = ReadJsonFile(o.domain, d);
-    if (!dom) {
-      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read " + o.domain, d));
-      return 2;
-    }
-    body["action_model"] = *dom;
-  } else {
-    body["domain"] = o.domain;
+  if (auto e = AddDomain(body, o.domain)) {
+    PrintError(*e);
+    return 2;
   }
   Json options = {{"time_limit_ms", o.time_limit_ms}};
   if (!o.objective.empty()) options["objective"] = o.objective;

@@ -49,14 +49,6 @@ std::optional<Network> ReadNetwork(const Json& j, std::string& why) {
   return net;
 }
 
-// A name from a request, cut to a length fit for a message (whole UTF-8 sequences).
-std::string Echo(const std::string& s, std::size_t max = 64) {
-  if (s.size() <= max) return s;
-  std::size_t cut = max;
-  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
-  return s.substr(0, cut) + "...";
-}
-
 const Transition* FindTransition(const Automaton& a, int from, int to) {
   for (const auto& t : a.transitions)
     if (t.from == from && t.to == to) return &t;
@@ -162,10 +154,8 @@ std::optional<Error> Run::ReadPlan(const Json& plan) {
   if (points.size() != net->points.size())
     return Internal("the plan's network has " + std::to_string(net->points.size()) +
                     " points for " + std::to_string(points.size()) + " transitions");
-  auto windows = flexible::Windows(*net);
-  if (!windows) return Internal("the plan's network is inconsistent");
+  if (!flexible::Windows(*net)) return Internal("the plan's network is inconsistent");
   net_ = std::move(*net);
-  slack_ = std::move(*windows);
   points_ = std::move(points);
   points_[0].at = 0;
   return std::nullopt;

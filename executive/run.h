@@ -159,7 +159,6 @@ class Run {
   std::vector<int> location_;       // every automaton's current location
   std::vector<network::Ticks> entered_;  // when it entered it
   network::Network net_;
-  std::vector<flexible::Window> slack_;
   std::vector<Point> points_;
   network::Ticks grace_ = network::kTicksPerSecond / 2;
   network::Ticks floor_ = 0;  // no point of the plan still to come happens before this

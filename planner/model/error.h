@@ -75,4 +75,8 @@ struct Error {
 // Escapes one JSON-pointer reference token (RFC 6901: "~" -> "~0", "/" -> "~1").
 std::string PointerToken(const std::string& key);
 
+// A client-supplied string cut to at most `max` bytes (on a UTF-8 boundary) with "..." appended
+// when cut, for echoing in messages: a 1 MB id is never sent back whole.
+std::string Echo(const std::string& s, std::size_t max = 64);
+
 }  // namespace ctb

@@ -73,6 +73,20 @@ Json RescueRequest(double speed, const Json& extra = Json::object()) {
   return body;
 }
 
+// An execution carried on after its server died: every report the first server acknowledged
+// (its GET showed it in `before`) is in the history `after`, and no command was dispatched twice.
+void ExpectCarriedOnFrom(const Json& before, const Json& after) {
+  std::set<std::string> history;
+  for (const auto& h : after["history"]) history.insert(h["automaton"].get<std::string>() + h["to"].get<std::string>());
+  for (const auto& h : before["history"])
+    EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
+  std::set<std::string> sent;
+  for (const auto& e : after["events"])
+    if (e["event"] == "dispatched") {
+      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
+    }
+}
+
 TEST(Executions, TheSimCarriesAPlanToTheGoalAndTheStreamEndsWithFinished) {
   ServerProcess server;
   auto c = server.Client();
@@ -196,16 +210,7 @@ TEST(Executions, AKilledServerResumesFromTheStoreAndDispatchesNothingTwice) {
   auto c = server.Client();
   Json after = WaitFor(c, id, Ended);
   EXPECT_EQ(after["state"], "succeeded") << after.value("why", "");
-  // Every report the first server acknowledged (its GET showed it) is still in the history.
-  std::set<std::string> history;
-  for (const auto& h : after["history"]) history.insert(h["automaton"].get<std::string>() + h["to"].get<std::string>());
-  for (const auto& h : before["history"])
-    EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
-  std::set<std::string> sent;
-  for (const auto& e : after["events"])
-    if (e["event"] == "dispatched") {
-      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
-    }
+  ExpectCarriedOnFrom(before, after);
   EXPECT_EQ(after["history"].size(), after["plan"]["transitions"].size());
   std::filesystem::remove_all(data);
 }
@@ -292,15 +297,7 @@ TEST(Executions, ASecondReplicaOnRedisTakesOverFromAKilledOne) {
   }
   Json after = WaitFor(cb, id, Ended);
   EXPECT_EQ(after["state"], "succeeded") << after.value("why", "");
-  std::set<std::string> history;
-  for (const auto& h : after["history"]) history.insert(h["automaton"].get<std::string>() + h["to"].get<std::string>());
-  for (const auto& h : before["history"])
-    EXPECT_TRUE(history.count(h["automaton"].get<std::string>() + h["to"].get<std::string>())) << h.dump();
-  std::set<std::string> sent;
-  for (const auto& e : after["events"])
-    if (e["event"] == "dispatched") {
-      EXPECT_TRUE(sent.insert(e["data"].dump()).second) << "twice: " << e.dump();
-    }
+  ExpectCarriedOnFrom(before, after);
   // Every transition of the plan carried out (a replan after the takeover may add observed
   // jumps, which are no transitions).
   std::size_t planned = 0;
