@@ -18,10 +18,6 @@ namespace ctb::app {
 
 namespace {
 
-std::string Safe(const std::string& s) {
-  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
 // Every *.json of <config_dir>/domains, by name; an Error names a bad file or a repeated name.
 std::variant<std::map<std::string, Domain>, Error> LoadShippedDomains(const std::string& dir) {
   std::map<std::string, Domain> out;
@@ -45,6 +41,44 @@ std::variant<std::map<std::string, Domain>, Error> LoadShippedDomains(const std:
   return out;
 }
 
+// A file of this process (SQLite): its integrity is checked first; a damaged file is kept
+// aside and what reads of it carried into a new one (storage.h).
+std::optional<Error> CheckDataFile(const CoreConfig& cfg, StorageHealth& health) {
+  if (!cfg.session_store.empty() && cfg.session_store != "sqlite") return std::nullopt;
+  std::error_code ec;
+  std::filesystem::create_directories(cfg.data_dir, ec);
+  auto check = CheckSqliteFile(cfg.data_dir + "/sessions.db");
+  if (auto* e = std::get_if<Error>(&check)) return *e;
+  const auto& c = std::get<SqliteFileCheck>(check);
+  if (!c.damaged) return std::nullopt;
+  spdlog::error("{}", Json({{"event", "storage_damaged_file"}, {"problem", c.problem}, {"kept_at", c.kept_at},
+                            {"records_carried_over", c.salvaged}}).dump());
+  health.Note("the database file was damaged (" + c.problem + "): it was kept aside as " +
+              std::filesystem::path(c.kept_at).filename().string() + " and " + std::to_string(c.salvaged) +
+              " records that could be read were carried into a new file");
+  return std::nullopt;
+}
+
+// The session and domain stores behind their guards: the server starts even when storage
+// cannot be opened yet (a read-only data directory, Redis down) and opens it when it can.
+std::optional<Error> OpenStores(Core::Impl& impl) {
+  const CoreConfig& cfg = impl.cfg;
+  const std::string backend = cfg.session_store.empty() || cfg.session_store == "sqlite"
+                                  ? "sqlite:" + cfg.data_dir + "/sessions.db"
+                                  : cfg.session_store;
+  impl.storage = std::make_shared<StorageHealth>(backend);
+  if (auto e = CheckDataFile(cfg, *impl.storage)) return e;
+  SessionStoreConfig sc{cfg.session_store, cfg.data_dir, cfg.max_sessions, cfg.session_idle_s};
+  std::string host;
+  int port = 0, db = 0;
+  const bool local = sc.url.empty() || sc.url == "sqlite" || sc.url == "memory";
+  if (!local)  // a wrong URL stops the start; an unreachable server does not
+    if (auto e = ParseRedisUrl(sc.url, host, port, db)) return Error{e->code, "session store: " + e->message, {}};
+  impl.sessions = GuardSessionStore([sc] { return OpenSessionStore(sc); }, "session", impl.storage);
+  impl.stored_domains = GuardDomainStore([sc] { return OpenDomainStore(sc); }, impl.storage);
+  return std::nullopt;
+}
+
 }  // namespace
 
 Core::Core(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -57,25 +91,17 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
   auto domains = LoadShippedDomains(cfg.config_dir);
   if (auto* e = std::get_if<Error>(&domains)) return *e;
   impl->domains = std::move(std::get<std::map<std::string, Domain>>(domains));
-  SessionStoreConfig sc{cfg.session_store, cfg.data_dir, cfg.max_sessions, cfg.session_idle_s};
-  auto store = OpenSessionStore(sc);
-  if (auto* e = std::get_if<Error>(&store))
-    return Error{e->code, "session store: " + e->message, e->details};
-  impl->sessions = std::move(std::get<std::unique_ptr<SessionStore>>(store));
-  auto domain_store = OpenDomainStore(sc);
-  if (auto* e = std::get_if<Error>(&domain_store))
-    return Error{e->code, "domain store: " + e->message, e->details};
-  impl->stored_domains = std::move(std::get<std::unique_ptr<DomainStore>>(domain_store));
+  if (auto e = OpenStores(*impl)) return *e;
   if (cfg.demo && cfg.llm.base_url.empty() && cfg.llm.replay_dir.empty()) {
     auto replay = MakeReplayClient(cfg.recordings_dir, cfg.llm.model);
     if (auto* c = std::get_if<std::unique_ptr<LlmClient>>(&replay))
       impl->demo_llm = std::move(*c);
     else
-      spdlog::warn("{}", Safe("--demo: no recordings in '" + cfg.recordings_dir + "'"));
+      spdlog::warn("{}", LogText("--demo: no recordings in '" + cfg.recordings_dir + "'"));
   }
   SetSolverMemoryLimitMb(cfg.solver_memory_mb);
   impl->ready = MiniZincAvailable(cfg.minizinc);
-  if (!impl->ready) spdlog::warn("{}", Safe("minizinc is not runnable: solves fail"));
+  if (!impl->ready) spdlog::warn("{}", LogText("minizinc is not runnable: solves fail"));
   std::unique_ptr<Core> core(new Core(std::move(impl)));
   if (auto e = OpenExecutions(*core, *core->impl_)) return *e;
   return core;
@@ -95,7 +121,7 @@ std::optional<Error> Core::DeleteSession(const std::string& id) {
     case StoreResult::kOk: return std::nullopt;
     case StoreResult::kNotFound:
       return Error{ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'", {}};
-    default: return Error{ErrorCode::kUnavailable, "the session store failed; retry later", {}};
+    default: return impl_->StoreFailed("session");
   }
 }
 
@@ -108,6 +134,13 @@ std::string Core::LlmMode() const {
 }
 
 bool Core::SolverReady() const { return impl_->ready; }
+
+Json Core::Storage() const {
+  impl_->storage->Refresh();
+  return impl_->storage->ToJson();
+}
+
+std::string Core::StorageMetrics() const { return impl_->storage->Metrics(); }
 
 void Core::Shutdown() {
   impl_->stopping = true;

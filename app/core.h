@@ -296,6 +296,9 @@ class Core {
   // "replay" | "endpoint" | "recordings" | "none": which LLM answers /plan.
   std::string LlmMode() const;
   bool SolverReady() const;
+  // What the stores last did (app/storage.h StorageHealth::ToJson): for /healthz and /readyz.
+  Json Storage() const;
+  std::string StorageMetrics() const;  // Prometheus lines
   // Stops every running job (their solvers are killed) and refuses new ones.
   void Shutdown();
   Metrics& metrics();

@@ -16,8 +16,6 @@ namespace ctb::app {
 
 namespace {
 
-Error StoreFailed() { return Error{ErrorCode::kUnavailable, "the domain store failed; retry later", {}}; }
-
 Error Unknown(const std::string& name) {
   return Error{ErrorCode::kNotFound, "unknown domain '" + Echo(name) + "'",
                {{"/domain", std::nullopt, "see GET /domains"}}};
@@ -122,7 +120,7 @@ std::variant<std::string, Error> Core::CreateDomain(const Json& document) {
   const std::string& n = std::get<std::string>(name);
   if (impl_->domains.count(n)) return Shipped(n, "created again");
   if (auto e = CheckDocument(document, impl_->cfg.budget)) return *e;
-  if (!impl_->stored_domains) return StoreFailed();
+  if (!impl_->stored_domains) return impl_->StoreFailed("domain");
   StoredDomain d;
   d.name = n;
   d.doc = document;
@@ -133,7 +131,7 @@ std::variant<std::string, Error> Core::CreateDomain(const Json& document) {
                    "domain '" + n + "' exists; PUT /domains/" + n + " replaces it", {}};
     case StoreResult::kFull:
       return Error{ErrorCode::kTooLarge, "the service holds as many domains as it may; delete one first", {}};
-    default: return StoreFailed();
+    default: return impl_->StoreFailed("domain");
   }
 }
 
@@ -145,14 +143,14 @@ std::optional<Error> Core::ReplaceDomain(const std::string& name, const Json& do
     return Bad("the document is named '" + Echo(std::get<std::string>(given)) +
                    "' but the path names '" + Echo(name) + "'", "/name");
   if (auto e = CheckDocument(document, impl_->cfg.budget)) return *e;
-  if (!impl_->stored_domains) return StoreFailed();
+  if (!impl_->stored_domains) return impl_->StoreFailed("domain");
   StoredDomain d;
   d.name = name;
   d.doc = document;
   switch (impl_->stored_domains->Replace(d)) {
     case StoreResult::kOk: return std::nullopt;
     case StoreResult::kNotFound: return Unknown(name);
-    default: return StoreFailed();
+    default: return impl_->StoreFailed("domain");
   }
 }
 
@@ -164,7 +162,7 @@ std::optional<Error> Core::DeleteDomain(const std::string& name, bool force) {
   if (!std::get<std::optional<StoredDomain>>(got)) return Unknown(name);
   if (!force) {
     const long users = impl_->sessions->CountUsing(name);
-    if (users < 0) return StoreFailed();
+    if (users < 0) return impl_->StoreFailed("session");
     if (users > 0)
       return Error{ErrorCode::kConflict,
                    std::to_string(users) + " live session(s) use domain '" + name +
@@ -174,7 +172,7 @@ std::optional<Error> Core::DeleteDomain(const std::string& name, bool force) {
   switch (impl_->stored_domains->Delete(name)) {
     case StoreResult::kOk: return std::nullopt;
     case StoreResult::kNotFound: return Unknown(name);
-    default: return StoreFailed();
+    default: return impl_->StoreFailed("domain");
   }
 }
 

@@ -129,11 +129,9 @@ void Core::SetCommandSink(const std::string& adapter, std::shared_ptr<CommandSin
 std::optional<Error> OpenExecutions(Core& core, Core::Impl& impl) {
   SessionStoreConfig sc{impl.cfg.session_store, impl.cfg.data_dir, impl.cfg.max_executions,
                         impl.cfg.execution_idle_s, "execution"};
-  auto store = OpenSessionStore(sc);
-  if (auto* e = std::get_if<Error>(&store)) return Error{e->code, "execution store: " + e->message, e->details};
+  auto store = GuardSessionStore([sc] { return OpenSessionStore(sc); }, "execution", impl.storage);
   const bool shared = impl.cfg.session_store.rfind("redis://", 0) == 0;
-  impl.executions = std::make_shared<Executions>(core, std::move(std::get<std::unique_ptr<SessionStore>>(store)),
-                                                 impl.cfg.execution_lease_ms, shared);
+  impl.executions = std::make_shared<Executions>(core, std::move(store), impl.cfg.execution_lease_ms, shared);
   for (const auto& [adapter, sink] : impl.cfg.command_sinks) core.SetCommandSink(adapter, sink);
   impl.executions->Resume([&impl](const Json& doc) -> std::variant<std::shared_ptr<const Domain>, Error> {
     DomainRef ref;

@@ -12,6 +12,7 @@
 #include "app/domain_store.h"
 #include "app/job_gate.h"
 #include "app/session_store.h"
+#include "app/storage.h"
 #include "planner/model/state_plan.h"
 #include "planner/solve/solve.h"
 
@@ -26,6 +27,7 @@ struct Core::Impl {
   Metrics metrics;
   JobGate gate;
   std::map<std::string, Domain> domains;
+  std::shared_ptr<StorageHealth> storage;  // what the stores last did (storage.h)
   std::unique_ptr<SessionStore> sessions;
   std::unique_ptr<DomainStore> stored_domains;  // domains created through the API
   std::shared_ptr<LlmClient> demo_llm;
@@ -56,6 +58,8 @@ struct Core::Impl {
   std::variant<Json, Error> ReadReportInWords(const Domain& d, const StatePlan& sp,
                                               const Json& request, const std::string& command,
                                               const CallContext& ctx) const;
+  // The 503 of a store ("session", "domain", "execution") that failed, with the backend's words.
+  Error StoreFailed(const std::string& store) const { return app::StoreFailed(*storage, store); }
   // The configured LLM client, else the demo recordings, else kUnavailable.
   std::variant<std::unique_ptr<LlmClient>, Error> Llm() const;
 };

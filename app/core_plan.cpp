@@ -46,8 +46,6 @@ class ObservedLlm : public LlmClient {
   int calls_ = 0;
 };
 
-Error StoreFailed() { return {ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
-
 Error UnknownSession(const std::string& id) {
   return {ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'",
           {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};
@@ -144,7 +142,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
     domain = session->domain;
   } else {
     const long n = impl_->sessions->Count();
-    if (n < 0) return StoreFailed();
+    if (n < 0) return impl_->StoreFailed("session");
     if (n >= impl_->cfg.max_sessions)
       return Error{ErrorCode::kBusy, "too many open sessions; retry later", {}};
   }
@@ -176,7 +174,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
       case StoreResult::kNotFound:
         return Error{ErrorCode::kNotFound, "the session expired or was deleted during this turn",
                      {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};
-      default: return StoreFailed();
+      default: return impl_->StoreFailed("session");
     }
     out.session = stored->id;
   } else {
@@ -187,7 +185,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
     switch (impl_->sessions->Create(fresh)) {
       case StoreResult::kOk: break;
       case StoreResult::kFull: return Error{ErrorCode::kBusy, "too many open sessions; retry later", {}};
-      default: return StoreFailed();
+      default: return impl_->StoreFailed("session");
     }
     out.session = fresh.id;
   }

@@ -12,8 +12,6 @@ namespace ctb::app {
 
 namespace {
 
-Error StoreFailed() { return {ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
-
 // What the turn records about a replan: the request's own fields (not the plan it replans).
 Json ReplanRecord(const Json& request, const std::string& keep) {
   Json r = {{"keep", keep}};
@@ -150,7 +148,7 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
     case StoreResult::kNotFound:
       return Error{ErrorCode::kNotFound, "the session expired or was deleted during this replan",
                    {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};
-    default: return StoreFailed();
+    default: return impl_->StoreFailed("session");
   }
   answer.document["session"] = stored->id;
   return answer;

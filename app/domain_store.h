@@ -41,6 +41,11 @@ class DomainStore {
   virtual StoreResult Replace(StoredDomain& d) = 0;
   virtual StoreResult Delete(const std::string& name) = 0;
   virtual std::string Describe() const = 0;
+  // The backend's words for the last failure; "" when unknown.
+  virtual std::string LastError() const { return {}; }
+  // A small write that changes no document (a heartbeat row or key): false when it fails. Tells
+  // /healthz whether a store that failed to write writes again.
+  virtual bool Probe() = 0;
 };
 
 // Opens the domain store beside the session store of this configuration.

@@ -112,6 +112,15 @@ class RedisDomainStore : public DomainStore {
     return r->integer == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
+  bool Probe() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    store::Reply r(conn_.Call({"SET", "ctb:probe", std::to_string(store::NowMs())}));
+    return r && r->type != REDIS_REPLY_ERROR;
+  }
+  std::string LastError() const override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return conn_.last_error();
+  }
   std::string Describe() const override {
     return conn_.Describe() + " (domains)";
   }
@@ -124,7 +133,7 @@ class RedisDomainStore : public DomainStore {
   }
 
 
-  std::mutex mu_;
+  mutable std::mutex mu_;
   store::RedisConn conn_;
   long max_;
 };

@@ -37,7 +37,7 @@ class SqliteDomainStore : public DomainStore {
     d.created_ms = q.Int(1);
     d.updated_ms = q.Int(2);
     d.doc = Json::parse(q.Text(3), nullptr, false);
-    if (d.doc.is_discarded()) return Unavailable();
+    if (d.doc.is_discarded()) return Unavailable("a stored document is not JSON");
     return std::optional<StoredDomain>(std::move(d));
   }
 
@@ -54,7 +54,7 @@ class SqliteDomainStore : public DomainStore {
 
   StoreResult Create(StoredDomain& d) override {
     std::lock_guard<std::mutex> lock(mu_);
-    if (!Exec("BEGIN IMMEDIATE")) return StoreResult::kUnavailable;
+    if (!Exec("BEGIN IMMEDIATE")) return Fail();
     Stmt exists(db_, "SELECT 1 FROM domains WHERE name = ?");
     if (!exists.ok()) return Rollback();
     exists.Bind(1, d.name);
@@ -84,9 +84,9 @@ class SqliteDomainStore : public DomainStore {
     std::lock_guard<std::mutex> lock(mu_);
     const long now = NowMs();
     Stmt up(db_, "UPDATE domains SET version = version + 1, updated_ms = ?, doc = ? WHERE name = ?");
-    if (!up.ok()) return StoreResult::kUnavailable;
+    if (!up.ok()) return Fail();
     up.Bind(1, now).Bind(2, Dump(d.doc)).Bind(3, d.name);
-    if (up.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    if (up.Step() != SQLITE_DONE) return Fail();
     if (sqlite3_changes(db_) != 1) return StoreResult::kNotFound;
     Stmt v(db_, "SELECT version FROM domains WHERE name = ?");
     if (v.ok() && v.Bind(1, d.name).Step() == SQLITE_ROW) d.version = v.Int(0);
@@ -97,26 +97,46 @@ class SqliteDomainStore : public DomainStore {
   StoreResult Delete(const std::string& name) override {
     std::lock_guard<std::mutex> lock(mu_);
     Stmt del(db_, "DELETE FROM domains WHERE name = ?");
-    if (!del.ok()) return StoreResult::kUnavailable;
+    if (!del.ok()) return Fail();
     del.Bind(1, name);
-    if (del.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    if (del.Step() != SQLITE_DONE) return Fail();
     return sqlite3_changes(db_) == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
   std::string Describe() const override { return "sqlite:" + path_ + " (domains)"; }
+  bool Probe() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt up(db_, "INSERT OR REPLACE INTO ctb_probe(id, at_ms) VALUES (1, ?)");
+    if (!up.ok()) return Fail(), false;
+    up.Bind(1, NowMs());
+    if (up.Step() != SQLITE_DONE) return Fail(), false;
+    return true;
+  }
+  std::string LastError() const override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return last_error_;
+  }
 
  private:
   bool Exec(const char* sql) { return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK; }
   StoreResult Rollback() {
+    Fail();
     Exec("ROLLBACK");
     return StoreResult::kUnavailable;
   }
-  static Error Unavailable() {
+  // Keeps SQLite's words for the failure (LastError).
+  StoreResult Fail(const char* why = nullptr) {
+    last_error_ = why ? why : sqlite3_errmsg(db_);
+    return StoreResult::kUnavailable;
+  }
+  Error Unavailable(const char* why = nullptr) {
+    Fail(why);
     return Error{ErrorCode::kUnavailable, "the domain store failed; retry later", {}};
   }
 
-  std::mutex mu_;
+  mutable std::mutex mu_;
   sqlite3* db_;
+  std::string last_error_;
   std::string path_;
   long max_;
 };
@@ -135,12 +155,10 @@ std::unique_ptr<DomainStore> OpenSqliteDomainStore(const std::string& path, long
     return nullptr;
   }
   sqlite3_busy_timeout(db, 5000);
-  const char* setup =
-      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
-      "CREATE TABLE IF NOT EXISTS domains(name TEXT PRIMARY KEY, version INTEGER NOT NULL,"
-      " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);";
+  const std::string setup =
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;" + store::kProbeTableSql + store::TableSql("domains", "name");
   char* msg = nullptr;
-  if (sqlite3_exec(db, setup, nullptr, nullptr, &msg) != SQLITE_OK) {
+  if (sqlite3_exec(db, setup.c_str(), nullptr, nullptr, &msg) != SQLITE_OK) {
     error = "cannot set up the domain database " + path + ": " + (msg ? msg : "?");
     sqlite3_free(msg);
     sqlite3_close(db);

@@ -154,11 +154,11 @@ bool Executions::Persist(Live& live) {
     case StoreResult::kOk: return true;
     case StoreResult::kConflict:
       // Another replica wrote it: that one carries it now; this one lets go.
-      spdlog::warn("execution {}: changed by another process; this one stops carrying it", live.id);
+      spdlog::warn("{}", LogText("execution " + live.id + ": changed by another process; this one stops carrying it"));
       live.shutdown = true;
       live.let_go = true;
       return false;
-    default: spdlog::error("execution {}: the execution store failed", live.id); return false;
+    default: spdlog::error("{}", LogText("execution " + live.id + ": the execution store failed")); return false;
   }
 }
 
@@ -250,7 +250,7 @@ void Executions::Loop(std::shared_ptr<Live> live) {
     if (live->sim)
       for (const auto& r : live->sim->Due(live->run, now)) {
         auto a = ApplyLocked(*live, r);
-        if (auto* e = std::get_if<Error>(&a)) spdlog::warn("execution {}: sim report refused: {}", live->id, e->message);
+        if (auto* e = std::get_if<Error>(&a)) spdlog::warn("{}", LogText("execution " + live->id + ": sim report refused: " + e->message));
         changed = true;
       }
     if (live->pending_replan) {
@@ -352,28 +352,31 @@ std::variant<std::string, Error> Executions::Start(std::shared_ptr<const Domain>
 int Executions::Resume(DomainOf domain_of) {
   domain_of_ = std::move(domain_of);
   const int n = Claim(/*at_start=*/true);
-  if (shared_) scanner_ = std::thread([this] { Scan(); });
+  if (shared_ || n < 0) scanner_ = std::thread([this, resumed = n >= 0] { Scan(resumed); });
   return n;
 }
 
 // With a shared store, every half lease: the running executions whose claim ran out (their
-// replica died) are claimed and carried on here.
-void Executions::Scan() {
+// replica died) are claimed and carried on here. Until the store could be listed once (it
+// failed at start), the resumption at start is tried again at the same pace.
+void Executions::Scan(bool resumed) {
   std::unique_lock<std::mutex> lock(scan_mu_);
   while (!scan_stop_) {
     scan_cv_.wait_for(lock, std::chrono::milliseconds(lease_ms_ / 2), [&] { return scan_stop_; });
     if (scan_stop_) break;
     lock.unlock();
-    Claim(/*at_start=*/false);
+    const int claimed = Claim(/*at_start=*/!resumed);
+    resumed = resumed || claimed >= 0;
     lock.lock();
+    if (resumed && !shared_) break;
   }
 }
 
 int Executions::Claim(bool at_start) {
   auto ids = store_->List();
   if (auto* e = std::get_if<Error>(&ids)) {
-    spdlog::error("executions: cannot list the stored ones: {}", e->message);
-    return 0;
+    spdlog::error("{}", LogText("executions: cannot list the stored ones: " + e->message));
+    return -1;
   }
   int claimed = 0;
   for (const auto& id : std::get<std::vector<std::string>>(ids)) {
@@ -402,12 +405,12 @@ std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredSession& stor
   auto dom = domain_of_ ? domain_of_(doc) : std::variant<std::shared_ptr<const Domain>, Error>(
                                                 Error{ErrorCode::kInternal, "no domain resolver", {}});
   if (auto* e = std::get_if<Error>(&dom)) {
-    spdlog::error("execution {}: cannot resume: {}", id, e->message);
+    spdlog::error("{}", LogText("execution " + id + ": cannot resume: " + e->message));
     return nullptr;
   }
   auto live = std::make_shared<Live>(std::get<std::shared_ptr<const Domain>>(dom));
   if (auto e = live->run.FromJson(doc["run"])) {
-    spdlog::error("execution {}: cannot resume: {}", id, e->message);
+    spdlog::error("{}", LogText("execution " + id + ": cannot resume: " + e->message));
     return nullptr;
   }
   auto opts = ParseRequestOptions(doc.value("options", Json::object()));

@@ -61,8 +61,8 @@ class Executions {
   void Emit(Live& live, const std::string& name, Json data);
   bool Persist(Live& live);
   std::shared_ptr<CommandSink> SinkFor(const Live& live);
-  int Claim(bool at_start);
-  void Scan();
+  int Claim(bool at_start);  // the executions claimed, -1 when the store could not be listed
+  void Scan(bool resumed);
   std::shared_ptr<Live> LiveFrom(const StoredSession& stored);
 
   Core& core_;

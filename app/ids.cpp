@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <vector>
 
+#include "planner/model/json_io.h"
+
 namespace ctb::app {
 
 namespace {
@@ -49,5 +51,7 @@ std::string RandomHex(std::size_t bytes) {
   }
   return s;
 }
+
+std::string LogText(const std::string& s) { return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace); }
 
 }  // namespace ctb::app

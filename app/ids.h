@@ -17,4 +17,7 @@ std::string RandomHex(std::size_t bytes = 16);
 // A client-supplied string cut for echoing in messages (planner/model/error.h).
 using ::ctb::Echo;
 
+// Text as one JSON string, for a log line (the log's format holds a JSON value: server/log_context.cpp).
+std::string LogText(const std::string& s);
+
 }  // namespace ctb::app

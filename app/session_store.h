@@ -51,6 +51,11 @@ class SessionStore {
   // The ids of live documents, oldest first (executions resumed at start-up).
   virtual std::variant<std::vector<std::string>, Error> List() = 0;
   virtual std::string Describe() const = 0;  // for the start-up log, no secrets
+  // The backend's words for the last failure ("database or disk is full"); "" when unknown.
+  virtual std::string LastError() const { return {}; }
+  // A small write that changes no document (a heartbeat row or key): false when it fails. Tells
+  // /healthz whether a store that failed to write writes again.
+  virtual bool Probe() = 0;
 };
 
 struct SessionStoreConfig {

@@ -140,6 +140,15 @@ class RedisStore : public SessionStore {
     return ids;
   }
 
+  bool Probe() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    store::Reply r(conn_.Call({"SET", "ctb:probe", std::to_string(store::NowMs())}));
+    return r && r->type != REDIS_REPLY_ERROR;
+  }
+  std::string LastError() const override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return conn_.last_error();
+  }
   std::string Describe() const override {
     return conn_.Describe();
   }
@@ -148,7 +157,7 @@ class RedisStore : public SessionStore {
   std::string Key(const std::string& id) const { return prefix_ + id; }
 
 
-  std::mutex mu_;
+  mutable std::mutex mu_;
   store::RedisConn conn_;
   std::string prefix_, index_;
   long max_, idle_ms_;

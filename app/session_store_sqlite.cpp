@@ -39,13 +39,13 @@ class SqliteStore : public SessionStore {
     s.created_ms = q.Int(1);
     s.updated_ms = q.Int(2);
     s.doc = Json::parse(q.Text(3), nullptr, false);
-    if (s.doc.is_discarded()) return Unavailable();
+    if (s.doc.is_discarded()) return Unavailable("a stored document is not JSON");
     return std::optional<StoredSession>(std::move(s));
   }
 
   StoreResult Create(StoredSession& s) override {
     std::lock_guard<std::mutex> lock(mu_);
-    if (!Exec("BEGIN IMMEDIATE")) return StoreResult::kUnavailable;
+    if (!Exec("BEGIN IMMEDIATE")) return Fail();
     const long now = NowMs();
     Expire(now);
     Stmt count(db_, Sql("SELECT COUNT(*) FROM {T}"));
@@ -69,10 +69,10 @@ class SqliteStore : public SessionStore {
     const long now = NowMs();
     Stmt up(db_, Sql("UPDATE {T} SET version = version + 1, updated_ms = ?, doc = ? "
                  "WHERE id = ? AND version = ? AND updated_ms >= ?"));
-    if (!up.ok()) return StoreResult::kUnavailable;
+    if (!up.ok()) return Fail();
     up.Bind(1, now).Bind(2, Dump(s.doc)).Bind(3, s.id);
     up.Bind(4, s.version).Bind(5, now - idle_ms_);
-    if (up.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    if (up.Step() != SQLITE_DONE) return Fail();
     if (sqlite3_changes(db_) == 1) {
       ++s.version;
       s.updated_ms = now;
@@ -86,9 +86,9 @@ class SqliteStore : public SessionStore {
   StoreResult Delete(const std::string& id) override {
     std::lock_guard<std::mutex> lock(mu_);
     Stmt del(db_, Sql("DELETE FROM {T} WHERE id = ? AND updated_ms >= ?"));
-    if (!del.ok()) return StoreResult::kUnavailable;
+    if (!del.ok()) return Fail();
     del.Bind(1, id).Bind(2, NowMs() - idle_ms_);
-    if (del.Step() != SQLITE_DONE) return StoreResult::kUnavailable;
+    if (del.Step() != SQLITE_DONE) return Fail();
     return sqlite3_changes(db_) == 1 ? StoreResult::kOk : StoreResult::kNotFound;
   }
 
@@ -96,16 +96,16 @@ class SqliteStore : public SessionStore {
     std::lock_guard<std::mutex> lock(mu_);
     Expire(NowMs());
     Stmt count(db_, Sql("SELECT COUNT(*) FROM {T}"));
-    if (!count.ok() || count.Step() != SQLITE_ROW) return -1;
+    if (!count.ok() || count.Step() != SQLITE_ROW) return Fail(), -1;
     return count.Int(0);
   }
 
   long CountUsing(const std::string& domain) override {
     std::lock_guard<std::mutex> lock(mu_);
     Stmt count(db_, Sql("SELECT COUNT(*) FROM {T} WHERE updated_ms >= ? AND json_extract(doc, '$.domain') = ?"));
-    if (!count.ok()) return -1;
+    if (!count.ok()) return Fail(), -1;
     count.Bind(1, NowMs() - idle_ms_).Bind(2, domain);
-    if (count.Step() != SQLITE_ROW) return -1;
+    if (count.Step() != SQLITE_ROW) return Fail(), -1;
     return count.Int(0);
   }
 
@@ -122,6 +122,18 @@ class SqliteStore : public SessionStore {
   }
 
   std::string Describe() const override { return "sqlite:" + path_ + " (" + table_ + ")"; }
+  bool Probe() override {
+    std::lock_guard<std::mutex> lock(mu_);
+    Stmt up(db_, "INSERT OR REPLACE INTO ctb_probe(id, at_ms) VALUES (1, ?)");
+    if (!up.ok()) return Fail(), false;
+    up.Bind(1, NowMs());
+    if (up.Step() != SQLITE_DONE) return Fail(), false;
+    return true;
+  }
+  std::string LastError() const override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return last_error_;
+  }
 
  private:
   // The statement with {T} as this store's table.
@@ -131,7 +143,13 @@ class SqliteStore : public SessionStore {
   }
   bool Exec(const char* sql) { return sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) == SQLITE_OK; }
   StoreResult Rollback() {
+    Fail();
     Exec("ROLLBACK");
+    return StoreResult::kUnavailable;
+  }
+  // Keeps SQLite's words for the failure (LastError).
+  StoreResult Fail(const char* why = nullptr) {
+    last_error_ = why ? why : sqlite3_errmsg(db_);
     return StoreResult::kUnavailable;
   }
   void Expire(long now) {
@@ -141,10 +159,14 @@ class SqliteStore : public SessionStore {
       del.Step();
     }
   }
-  static Error Unavailable() { return Error{ErrorCode::kUnavailable, "the session store failed; retry later", {}}; }
+  Error Unavailable(const char* why = nullptr) {
+    Fail(why);
+    return Error{ErrorCode::kUnavailable, "the session store failed; retry later", {}};
+  }
 
-  std::mutex mu_;
+  mutable std::mutex mu_;
   sqlite3* db_;
+  std::string last_error_;
   std::string path_;
   std::string table_;
   long max_, idle_ms_;
@@ -163,10 +185,8 @@ std::unique_ptr<SessionStore> OpenSqliteStore(const std::string& path, long max_
   }
   sqlite3_busy_timeout(db, 5000);
   const std::string setup =
-      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"
-      "CREATE TABLE IF NOT EXISTS " + table + "(id TEXT PRIMARY KEY, version INTEGER NOT NULL,"
-      " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);"
-      "CREATE INDEX IF NOT EXISTS " + table + "_updated ON " + table + "(updated_ms);";
+      "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;" + store::kProbeTableSql +
+      store::TableSql(table, "id") + "CREATE INDEX IF NOT EXISTS " + table + "_updated ON " + table + "(updated_ms);";
   char* msg = nullptr;
   if (sqlite3_exec(db, setup.c_str(), nullptr, nullptr, &msg) != SQLITE_OK) {
     error = "cannot set up the session database " + path + ": " + (msg ? msg : "?");

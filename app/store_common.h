@@ -23,6 +23,16 @@ inline long NowMs() {
 // A stored document's text (invalid UTF-8 replaced, never throws).
 inline std::string Dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
 
+// The SQL that creates a table of versioned documents keyed by `key` (the stores and the salvage
+// of a damaged file share it).
+inline std::string TableSql(const std::string& table, const std::string& key) {
+  return "CREATE TABLE IF NOT EXISTS " + table + "(" + key + " TEXT PRIMARY KEY, version INTEGER NOT NULL,"
+         " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);";
+}
+
+// The heartbeat row that SessionStore::Probe and DomainStore::Probe write.
+inline const std::string kProbeTableSql = "CREATE TABLE IF NOT EXISTS ctb_probe(id INTEGER PRIMARY KEY, at_ms INTEGER NOT NULL);";
+
 // One prepared SQLite statement, finalized on destruction.
 class Stmt {
  public:
@@ -32,6 +42,7 @@ class Stmt {
   Stmt(const Stmt&) = delete;
   Stmt& operator=(const Stmt&) = delete;
   bool ok() const { return s_ != nullptr; }
+  sqlite3_stmt* get() const { return s_; }
   Stmt& Bind(int i, const std::string& v) {
     sqlite3_bind_text(s_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
     return *this;
@@ -93,11 +104,21 @@ class RedisConn {
   // One command; on a broken connection, reconnect once and retry. Null when it failed.
   Reply Call(const std::vector<std::string>& args) {
     Reply r(Command(args));
-    if (r) return r;
-    std::string error;
-    if (!Connect(error)) return nullptr;
-    return Reply(Command(args));
+    if (!r) {
+      std::string error;
+      if (!Connect(error)) {
+        last_error_ = error;
+        return nullptr;
+      }
+      r.reset(Command(args));
+    }
+    if (!r) last_error_ = c_ && c_->err ? c_->errstr : "no reply from redis";
+    else if (r->type == REDIS_REPLY_ERROR) last_error_ = std::string(r->str, r->len);
+    return r;
   }
+
+  // Why the last call failed (the caller holds its mutex).
+  const std::string& last_error() const { return last_error_; }
 
   std::string Describe() const {
     return "redis://" + host_ + ":" + std::to_string(port_) + "/" + std::to_string(db_);
@@ -117,6 +138,7 @@ class RedisConn {
   }
 
   redisContext* c_ = nullptr;
+  std::string last_error_;
   std::string host_;
   int port_, db_;
 };

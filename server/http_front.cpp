@@ -28,10 +28,6 @@ bool SaneRequestId(const std::string& id) {
   return true;
 }
 
-std::string Safe(const std::string& s) {
-  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
 void SendJson(httplib::Response& res, int status, const Json& j) {
   res.status = status;
   // Text from an LLM or an upstream error may hold invalid UTF-8: replaced, never thrown.
@@ -56,6 +52,7 @@ void SendError(httplib::Response& res, const Error& e) {
     err["details"] = details;
   }
   if (e.code == ErrorCode::kBusy) res.set_header("Retry-After", "2");
+  if (e.code == ErrorCode::kUnavailable) res.set_header("Retry-After", "1");
   if (e.code == ErrorCode::kUnauthenticated) res.set_header("WWW-Authenticate", "Bearer");
   SendJson(res, HttpStatus(e.code), {{"error", err}});
 }
@@ -107,7 +104,7 @@ class HttpFrontEnd::Impl {
     int port = cfg_.port == 0 ? svr_.bind_to_any_port(cfg_.host)
                               : (svr_.bind_to_port(cfg_.host, cfg_.port) ? cfg_.port : -1);
     if (port >= 0 && !svr_.RaiseBacklog())
-      spdlog::warn("{}", Safe("cannot raise the listen backlog; bursts of connections may wait"));
+      spdlog::warn("{}", app::LogText("cannot raise the listen backlog; bursts of connections may wait"));
     return port;
   }
   void Listen() { svr_.listen_after_bind(); }
@@ -132,7 +129,7 @@ class HttpFrontEnd::Impl {
         else
           fn(req, res);
       } catch (const std::exception& e) {
-        spdlog::error("{}", Safe("unhandled exception in " + route + ": " + e.what()));
+        spdlog::error("{}", app::LogText("unhandled exception in " + route + ": " + e.what()));
         SendError(res, {ErrorCode::kInternal, "internal error", {}});
       }
       --in_flight_;
@@ -595,11 +592,18 @@ class HttpFrontEnd::Impl {
       SendJson(s, 200, {{"llm", {{"mode", core_.LlmMode()}, {"model", cfg_.llm.model}}},
                         {"auth", keys_ ? "bearer" : "none"}});
     }));
-    svr_.Get("/healthz", Wrap("/healthz", [](auto&, auto& s) { SendJson(s, 200, {{"status", "ok"}}); }, false));
+    // Liveness: 200 while the process serves, "degraded" when a store fails (a restart would not
+    // mend the disk; the server recovers by itself when storage comes back).
+    svr_.Get("/healthz", Wrap("/healthz", [this](auto&, auto& s) {
+      Json storage = core_.Storage();
+      SendJson(s, 200, {{"status", storage["status"] == "ok" ? "ok" : "degraded"}, {"storage", storage}});
+    }, false));
+    // Readiness: the solver runs and the server is not draining. A failing store does not take the
+    // replica out: /solve and the pages need no storage (the storage field says what fails).
     svr_.Get("/readyz", Wrap("/readyz", [this](auto&, auto& s) {
       if (draining_) return SendError(s, {ErrorCode::kUnavailable, "draining", {}});
       if (!core_.SolverReady()) return SendError(s, {ErrorCode::kUnavailable, "minizinc is not runnable", {}});
-      SendJson(s, 200, {{"status", "ready"}});
+      SendJson(s, 200, {{"status", "ready"}, {"storage", core_.Storage()}});
     }, false));
     svr_.Get("/metrics", Wrap("/metrics", [this](auto&, auto& s) { s.set_content(MetricsText(), "text/plain; version=0.0.4"); }));
     // Static files (the page) are served by httplib's file handler, outside Wrap(): count them.
@@ -607,11 +611,11 @@ class HttpFrontEnd::Impl {
       core_.metrics().Request("(static)", res.status == -1 ? 200 : res.status, 0);
     });
     if (!svr_.set_mount_point("/", cfg_.static_dir))
-      spdlog::warn("{}", Safe("static directory '" + cfg_.static_dir + "' not found: no web page"));
+      spdlog::warn("{}", app::LogText("static directory '" + cfg_.static_dir + "' not found: no web page"));
   }
 
   std::string MetricsText() {
-    return core_.metrics().Render() +
+    return core_.metrics().Render() + core_.StorageMetrics() +
            "# HELP ctb_connections_open Connections being served.\n# TYPE ctb_connections_open gauge\n"
            "ctb_connections_open " + std::to_string(svr_.open_connections()) + "\n"
            "# HELP ctb_connections_refused_total Connections refused over the per-address or total cap.\n"

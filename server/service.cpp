@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "app/core.h"
+#include "app/ids.h"
 #include "grpc/grpc_front.h"
 #include "mqtt/adapter.h"
 #include "server/http_front.h"
@@ -18,10 +19,6 @@ namespace ctb::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string Safe(const std::string& s) {
-  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
-}
 
 app::CoreConfig CoreConfigOf(const ServerConfig& c) {
   app::CoreConfig o;
@@ -66,13 +63,13 @@ int Serve(const ServerConfig& cfg) {
   if (!cfg.api_keys_file.empty()) {
     auto k = app::ApiKeys::Load(cfg.api_keys_file);
     if (auto* e = std::get_if<std::string>(&k)) {
-      spdlog::error("{}", Safe(*e));
+      spdlog::error("{}", app::LogText(*e));
       return 2;
     }
     keys = std::move(std::get<std::unique_ptr<app::ApiKeys>>(k));
   } else if (!cfg.allow_unauthenticated &&
              (!IsLoopback(cfg.host) || (cfg.grpc_port >= 0 && !IsLoopback(cfg.grpc_host)))) {
-    spdlog::error("{}", Safe("without --api-keys the server listens on loopback only; give "
+    spdlog::error("{}", app::LogText("without --api-keys the server listens on loopback only; give "
                              "--api-keys FILE, or --allow-unauthenticated to serve " +
                              cfg.host + " without keys"));
     return 2;
@@ -84,7 +81,7 @@ int Serve(const ServerConfig& cfg) {
   if (!cfg.mqtt_url.empty()) {
     auto a = mqtt::Adapter::Create({cfg.mqtt_url, cfg.mqtt_client_id});
     if (auto* e = std::get_if<std::string>(&a)) {
-      spdlog::error("{}", Safe(*e));
+      spdlog::error("{}", app::LogText(*e));
       return 2;
     }
     mqtt_adapter = std::get<std::shared_ptr<mqtt::Adapter>>(a);
@@ -92,7 +89,7 @@ int Serve(const ServerConfig& cfg) {
   }
   auto opened = app::Core::Open(core_cfg);
   if (auto* e = std::get_if<Error>(&opened)) {
-    spdlog::error("{}", Safe(e->message));
+    spdlog::error("{}", app::LogText(e->message));
     return 2;
   }
   auto core = std::move(std::get<std::unique_ptr<app::Core>>(opened));
@@ -113,7 +110,7 @@ int Serve(const ServerConfig& cfg) {
   HttpFrontEnd http(cfg, *core, keys.get());
   const int port = http.Bind();
   if (port < 0) {
-    spdlog::error("{}", Safe("cannot listen on " + cfg.host + ":" + std::to_string(cfg.port)));
+    spdlog::error("{}", app::LogText("cannot listen on " + cfg.host + ":" + std::to_string(cfg.port)));
     return 2;
   }
   std::unique_ptr<grpcfront::GrpcFrontEnd> grpc;
@@ -123,7 +120,7 @@ int Serve(const ServerConfig& cfg) {
                               cfg.max_body_bytes, cfg.max_grpc_streams_per_client};
     auto g = grpcfront::GrpcFrontEnd::Start(go, *core, keys.get());
     if (auto* e = std::get_if<std::string>(&g)) {
-      spdlog::error("{}", Safe(*e));
+      spdlog::error("{}", app::LogText(*e));
       return 2;
     }
     grpc = std::move(std::get<std::unique_ptr<grpcfront::GrpcFrontEnd>>(g));
