@@ -17,8 +17,10 @@ namespace {
 constexpr std::size_t kKeptEvents = 500;  // per execution, in the store and in GET
 constexpr int kMaxReplansInARow = 8;
 
-Error Unavailable() {
-  return {ErrorCode::kUnavailable, "the execution store failed; the report was not stored: send it again", {}};
+// The store's 503: "the execution store failed (why); <what then>".
+Error StoreFailed(const SessionStore& store, const std::string& then) {
+  const std::string why = store.LastError();
+  return {ErrorCode::kUnavailable, "the execution store failed" + (why.empty() ? "" : " (" + why + ")") + "; " + then, {}};
 }
 
 Error NotFound(const std::string& id) {
@@ -175,7 +177,7 @@ std::variant<exec::Applied, Error> Executions::ApplyLocked(Live& live, const exe
     live.run = std::move(before);
     live.events.resize(events);
     live.seq = seq;
-    return Unavailable();
+    return StoreFailed(*store_, "the report was not stored: send it again");
   }
   live.replans_in_a_row = 0;
   if (a.replan && !live.pending_replan) live.pending_replan = *a.replan;
@@ -343,7 +345,7 @@ std::variant<std::string, Error> Executions::Start(std::shared_ptr<const Domain>
     case StoreResult::kOk: break;
     case StoreResult::kFull:
       return Error{ErrorCode::kBusy, "too many executions are stored; delete finished ones", {}};
-    default: return Error{ErrorCode::kUnavailable, "the execution store failed; retry later", {}};
+    default: return StoreFailed(*store_, "retry later");
   }
   Launch(live);
   return live->id;
@@ -535,7 +537,7 @@ std::optional<Error> Executions::ChangeStatePlan(const std::string& id, const Js
     live->stored.doc["state_plan"] = state_plan;
     if (!Persist(*live)) {
       live->stored.doc["state_plan"] = before;
-      return Error{ErrorCode::kUnavailable, "the execution store failed; the new state plan was not taken", {}};
+      return StoreFailed(*store_, "the new state plan was not taken");
     }
     live->pending_replan = "the state plan changed";
     live->replans_in_a_row = 0;

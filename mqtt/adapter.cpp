@@ -10,6 +10,8 @@
 #include <exception>
 #include <mutex>
 
+#include "app/ids.h"
+
 namespace ctb::mqtt {
 
 namespace {
@@ -79,8 +81,8 @@ void Adapter::ConnectLoop() {
     int rc = mosquitto_connect_async(mosq_, address_.host.c_str(), address_.port, options_.keepalive_s);
     if (rc == MOSQ_ERR_SUCCESS) break;
     if (first)
-      spdlog::warn("mqtt: cannot connect to {}:{} yet ({}); retrying in the background", address_.host,
-                   address_.port, rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc));
+      spdlog::warn("{}", app::LogText(fmt::format("mqtt: cannot connect to {}:{} yet ({}); retrying in the background", address_.host,
+                   address_.port, rc == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(rc))));
     std::unique_lock<std::mutex> lock(mu_);
     if (wake_.wait_for(lock, delay, [this] { return stopped_; })) return;
     delay = std::min(delay * 2, std::chrono::seconds(30));
@@ -89,7 +91,7 @@ void Adapter::ConnectLoop() {
   if (stopped_) return;
   int rc = mosquitto_loop_start(mosq_);
   if (rc != MOSQ_ERR_SUCCESS) {
-    spdlog::error("mqtt: the network loop did not start: {}", mosquitto_strerror(rc));
+    spdlog::error("{}", app::LogText(fmt::format("mqtt: the network loop did not start: {}", mosquitto_strerror(rc))));
     return;
   }
   looping_ = true;
@@ -121,7 +123,7 @@ void Adapter::Stop() {
 void Adapter::Publish(const std::string& topic, const std::string& payload) {
   int rc = mosquitto_publish(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(),
                              /*qos=*/1, /*retain=*/false);
-  if (rc != MOSQ_ERR_SUCCESS) spdlog::error("mqtt: publishing to {} failed: {}", Quote(topic), mosquitto_strerror(rc));
+  if (rc != MOSQ_ERR_SUCCESS) spdlog::error("{}", app::LogText(fmt::format("mqtt: publishing to {} failed: {}", Quote(topic), mosquitto_strerror(rc))));
 }
 
 void Adapter::Send(const std::string& execution, const Json& command) {
@@ -134,7 +136,7 @@ void Adapter::Send(const std::string& execution, const Json& command) {
     const std::string text = payload.dump(-1, ' ', false, Json::error_handler_t::replace);
     std::lock_guard<std::mutex> lock(mu_);
     if (stopped_) {
-      spdlog::warn("mqtt: stopped; command not published to {}", Quote(topic));
+      spdlog::warn("{}", app::LogText(fmt::format("mqtt: stopped; command not published to {}", Quote(topic))));
       return;
     }
     if (!looping_) {
@@ -144,7 +146,7 @@ void Adapter::Send(const std::string& execution, const Json& command) {
     }
     Publish(topic, text);
   } catch (const std::exception& e) {
-    spdlog::error("mqtt: execution {}: command not published: {}", Quote(execution), e.what());
+    spdlog::error("{}", app::LogText(fmt::format("mqtt: execution {}: command not published: {}", Quote(execution), e.what())));
   }
 }
 
@@ -152,15 +154,15 @@ void Adapter::OnConnect(mosquitto* m, void* self, int rc) {
   try {
     auto* a = static_cast<Adapter*>(self);
     if (rc != 0) {
-      spdlog::warn("mqtt: the broker {}:{} refused the connection: {}", a->address_.host, a->address_.port,
-                   mosquitto_connack_string(rc));
+      spdlog::warn("{}", app::LogText(fmt::format("mqtt: the broker {}:{} refused the connection: {}", a->address_.host, a->address_.port,
+                   mosquitto_connack_string(rc))));
       return;
     }
     int s = mosquitto_subscribe(m, nullptr, kStateFilter, 1);
     if (s != MOSQ_ERR_SUCCESS)
-      spdlog::error("mqtt: cannot subscribe to {}: {}", kStateFilter, mosquitto_strerror(s));
+      spdlog::error("{}", app::LogText(fmt::format("mqtt: cannot subscribe to {}: {}", kStateFilter, mosquitto_strerror(s))));
     else
-      spdlog::info("mqtt: connected to {}:{}, subscribed to {}", a->address_.host, a->address_.port, kStateFilter);
+      spdlog::info("{}", app::LogText(fmt::format("mqtt: connected to {}:{}, subscribed to {}", a->address_.host, a->address_.port, kStateFilter)));
   } catch (...) {
   }
 }
@@ -169,8 +171,8 @@ void Adapter::OnDisconnect(mosquitto*, void* self, int rc) {
   try {
     auto* a = static_cast<Adapter*>(self);
     if (rc != 0)
-      spdlog::warn("mqtt: lost the broker {}:{} ({}); reconnecting", a->address_.host, a->address_.port,
-                   mosquitto_strerror(rc));
+      spdlog::warn("{}", app::LogText(fmt::format("mqtt: lost the broker {}:{} ({}); reconnecting", a->address_.host, a->address_.port,
+                   mosquitto_strerror(rc))));
   } catch (...) {
   }
 }
@@ -184,7 +186,7 @@ void Adapter::OnMessage(mosquitto*, void* self, const mosquitto_message* msg) {
     static_cast<Adapter*>(self)->HandleMessage(msg->topic, payload);
   } catch (const std::exception& e) {
     try {
-      spdlog::error("mqtt: a message could not be handled: {}", e.what());
+      spdlog::error("{}", app::LogText(fmt::format("mqtt: a message could not be handled: {}", e.what())));
     } catch (...) {
     }
   } catch (...) {
@@ -193,7 +195,7 @@ void Adapter::OnMessage(mosquitto*, void* self, const mosquitto_message* msg) {
 
 void Adapter::Refuse(const std::string& topic, const std::string& execution, const std::string& automaton,
                      const std::string& message, const std::string& path) {
-  spdlog::warn("mqtt: report on {} refused: {}{}", Quote(topic), message, path.empty() ? "" : " (at " + path + ")");
+  spdlog::warn("{}", app::LogText(fmt::format("mqtt: report on {} refused: {}{}", Quote(topic), message, path.empty() ? "" : " (at " + path + ")")));
   if (!options_.publish_errors) return;
   Json body = {{"error", message}, {"path", path}};
   Publish("ctburton/" + execution + "/" + automaton + "/error",
@@ -203,7 +205,7 @@ void Adapter::Refuse(const std::string& topic, const std::string& execution, con
 void Adapter::HandleMessage(const std::string& topic, const std::string& payload) {
   std::string execution, automaton, leaf;
   if (!SplitTopic(topic, execution, automaton, leaf) || leaf != "state") {
-    spdlog::warn("mqtt: ignored a message on {}: not ctburton/<execution>/<automaton>/state", Quote(topic));
+    spdlog::warn("{}", app::LogText(fmt::format("mqtt: ignored a message on {}: not ctburton/<execution>/<automaton>/state", Quote(topic))));
     return;
   }
   Json body = Json::parse(payload, nullptr, /*allow_exceptions=*/false);
