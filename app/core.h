@@ -218,6 +218,25 @@ struct DomainInfo {
 };
 
 // An action model drafted from words (contract section 12): never stored by the core.
+// A PDDL 2.1 temporal domain (and problem) to import as an action model (docs/pddl.md).
+struct PddlImportCall {
+  std::string domain;   // the PDDL domain text
+  std::string problem;  // the PDDL problem text; "" = none (the domain's constants ground it)
+  std::string name;     // the action model's name; "" = the PDDL domain's, sanitized
+  bool store = false;   // also create it as a stored domain (contract section 12)
+};
+
+struct PddlImportAnswer {
+  Json action_model;  // contract section 2
+  Json state_plan;    // the problem's initial state, goal and objective; null without a problem
+  // {"line", "column", "action"?, "message"}: what was approximated.
+  Json warnings = Json::array();
+  std::size_t ground_actions = 0;
+  // {"command", "automaton", "pddl", "durative"}: how the model names each ground action.
+  Json actions = Json::array();
+  bool stored = false;
+};
+
 struct DraftAnswer {
   Json document;  // {"action_model", "restatement", "questions", "warnings"?}
 };
@@ -256,6 +275,11 @@ class Core {
   std::optional<Error> DeleteDomain(const std::string& name, bool force);
   // Every automaton of the domain drawn as one SVG document.
   std::variant<std::string, Error> DomainDiagram(const std::string& name) const;
+  // PDDL in, an action model out (app/core_pddl.cpp): the import's problems are kInvalidInput with
+  // one detail each at /domain or /problem (the offset of the line and column in that text); the
+  // model is held to the request budget (kTooLarge), at most budget.max_transitions ground
+  // actions; with `store`, created like CreateDomain (kConflict when the name exists).
+  std::variant<PddlImportAnswer, Error> ImportPddl(const PddlImportCall& call);
   // An LLM drafts an action model from a description of the team; checked and repaired.
   std::variant<DraftAnswer, Error> DraftDomain(const std::string& description,
                                                const CallContext& ctx);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "client/commands.h"
+#include "client/local_core.h"
 #include "interchange/pddl/import.h"
 #include "planner/diagram/diagram.h"
 #include "planner/model/catalog.h"
@@ -150,6 +151,24 @@ std::optional<std::string> ReadText(const std::string& path) {
   return s.str();
 }
 
+// The core names the texts domain.pddl and problem.pddl; the user's files are named here instead.
+std::string Renamed(std::string text, const DomainOptions& o) {
+  for (const auto& [core_name, user] : {std::pair<std::string, std::string>{"domain.pddl", o.file}, {"problem.pddl", o.problem}})
+    if (text.rfind(core_name + ":", 0) == 0) return user + text.substr(core_name.size());
+  return text;
+}
+
+// A warning of the answer ({"file"?, "line", "column", "action"?, "message"}) as the importer says it.
+std::string WarningText(const Json& w) {
+  pddl::Issue i;
+  i.file = w.value("file", "");
+  i.line = w.value("line", 0);
+  i.column = w.value("column", 0);
+  i.action = w.value("action", "");
+  i.message = w.value("message", "");
+  return i.ToString();
+}
+
 // `domain import-pddl DOMAIN.pddl [PROBLEM.pddl]`: the action model on stdout (or --out), the
 // state plan of the problem to --state-plan-out; issues to stderr, exit 1.
 int RunImportPddl(const DomainOptions& o) {
@@ -157,8 +176,8 @@ int RunImportPddl(const DomainOptions& o) {
     std::cerr << "error: --state-plan-out needs a PROBLEM file\n";
     return 2;
   }
-  pddl::Source domain{o.file, ""};
-  std::optional<pddl::Source> problem;
+  app::PddlImportCall call;
+  call.name = o.name;
   for (const std::string* path : {&o.file, &o.problem}) {
     if (path->empty()) continue;
     auto text = ReadText(*path);
@@ -166,20 +185,26 @@ int RunImportPddl(const DomainOptions& o) {
       std::cerr << "error: cannot read '" << *path << "'\n";
       return 1;
     }
-    if (path == &o.file) domain.text = std::move(*text);
-    else problem = pddl::Source{*path, std::move(*text)};
+    (path == &o.file ? call.domain : call.problem) = std::move(*text);
   }
-  pddl::ImportOptions io;
-  io.name = o.name;
-  auto r = pddl::ImportPddl(domain, problem, io);
-  if (auto* issues = std::get_if<std::vector<pddl::Issue>>(&r)) {
-    for (const auto& i : *issues) std::cerr << "error: " << ValidUtf8(i.ToString()) << "\n";
+  auto core = OpenLocalCore(o.config_dir, false);
+  if (auto* e = std::get_if<Error>(&core)) {
+    std::cerr << "error: " << ValidUtf8(e->ToString()) << "\n";
     return 1;
   }
-  const pddl::Imported& im = std::get<pddl::Imported>(r);
-  for (const auto& w : im.warnings) std::cerr << "warning: " << ValidUtf8(w.ToString()) << "\n";
+  auto r = std::get<std::unique_ptr<app::Core>>(core)->ImportPddl(call);
+  if (auto* e = std::get_if<Error>(&r)) {
+    // Each problem as FILE:LINE:COLUMN: ..., the files named as the user gave them.
+    for (const auto& d : e->details)
+      std::cerr << "error: " << ValidUtf8(Renamed(d.message, o)) << "\n";
+    if (e->details.empty()) std::cerr << "error: " << ValidUtf8(e->message) << "\n";
+    return 1;
+  }
+  const app::PddlImportAnswer& im = std::get<app::PddlImportAnswer>(r);
+  for (const auto& w : im.warnings)
+    std::cerr << "warning: " << ValidUtf8(Renamed(WarningText(w), o)) << "\n";
   auto dump = [](const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"; };
-  if (int rc = Write(o, dump(im.domain))) return rc;
+  if (int rc = Write(o, dump(im.action_model))) return rc;
   if (!o.state_plan_out.empty()) {
     DomainOptions sp = o;
     sp.out = o.state_plan_out;
@@ -187,12 +212,12 @@ int RunImportPddl(const DomainOptions& o) {
   }
   if (!o.out.empty() && o.out != "-") {
     std::size_t locations = 0, transitions = 0;
-    for (const auto& a : im.domain["automata"]) {
+    for (const auto& a : im.action_model["automata"]) {
       locations += a["locations"].size();
       transitions += a["transitions"].size();
     }
-    std::cout << "imported: " << im.domain["name"].get<std::string>() << " ("
-              << im.domain["automata"].size() << " automata, " << locations << " locations, "
+    std::cout << "imported: " << im.action_model["name"].get<std::string>() << " ("
+              << im.action_model["automata"].size() << " automata, " << locations << " locations, "
               << transitions << " transitions from " << im.ground_actions << " ground actions)\n";
   }
   return 0;

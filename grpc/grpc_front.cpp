@@ -179,6 +179,18 @@ class PlannerService final : public pb::Planner::Service {
       return Status::OK;
     });
   }
+  Status ImportPddl(ServerContext* c, const pb::ImportPddlRequest* q, pb::ImportPddlResult* r) override {
+    return Run(c, "ImportPddl", [&]() -> Status {
+      auto d = core_.ImportPddl({q->domain(), q->problem(), q->name(), q->store()});
+      if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
+      const auto& a = std::get<app::PddlImportAnswer>(d);
+      Json out = {{"action_model", a.action_model}, {"warnings", a.warnings}, {"ground_actions", a.ground_actions},
+                  {"actions", a.actions}, {"stored", a.stored}};
+      if (!a.state_plan.is_null()) out["state_plan"] = a.state_plan;
+      if (auto err = FromJson(out, r)) return Status(grpc::StatusCode::INTERNAL, *err);
+      return Status::OK;
+    });
+  }
   Status CheckNetwork(ServerContext* c, const pb::NetworkCheckRequest* q,
                       pb::NetworkCheckResult* r) override {
     return Run(c, "CheckNetwork", [&]() -> Status {

@@ -519,6 +519,33 @@ class HttpFrontEnd::Impl {
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
       SendJson(s, 200, std::get<app::DraftAnswer>(r).document);
     }));
+    // PDDL in, an action model out (issue 32): {"domain": PDDL text, "problem"?: PDDL text,
+    // "name"?, "store"?: false}; 201 with Location when stored, else 200.
+    svr_.Post("/domains/import-pddl", Wrap("/domains/import-pddl", [this](auto& q, auto& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      if (auto e = CheckKeys(*body, {"domain", "problem", "name", "store"})) return SendError(s, *e);
+      app::PddlImportCall call;
+      auto domain = OptString(*body, "domain", "\"domain\" must be the PDDL domain as a string");
+      auto problem = OptString(*body, "problem", "\"problem\" must be the PDDL problem as a string");
+      auto name = OptString(*body, "name", "\"name\" must be a string");
+      for (auto* v : {&domain, &problem, &name})
+        if (auto* e = std::get_if<Error>(v)) return SendError(s, *e);
+      call.domain = std::get<std::optional<std::string>>(domain).value_or("");
+      call.problem = std::get<std::optional<std::string>>(problem).value_or("");
+      call.name = std::get<std::optional<std::string>>(name).value_or("");
+      if (body->contains("store")) {
+        if (!(*body)["store"].is_boolean()) return SendError(s, Bad("\"store\" must be true or false", "/store"));
+        call.store = (*body)["store"].template get<bool>();
+      }
+      auto r = core_.ImportPddl(call);
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      const auto& a = std::get<app::PddlImportAnswer>(r);
+      Json out = {{"action_model", a.action_model}, {"state_plan", a.state_plan}, {"warnings", a.warnings},
+                  {"ground_actions", a.ground_actions}, {"actions", a.actions}, {"stored", a.stored}};
+      if (a.stored) s.set_header("Location", "/domains/" + a.action_model.value("name", ""));
+      SendJson(s, a.stored ? 201 : 200, out);
+    }));
     svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
       const std::string expand = q.get_param_value("expand");
       if (!expand.empty() && expand != "true" && expand != "false")

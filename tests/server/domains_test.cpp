@@ -292,5 +292,80 @@ TEST(Domains, ReplicasSharingRedisSeeTheSameDomains) {
   std::filesystem::remove_all(dir);
 }
 
+
+std::string ReadText(const std::string& path) {
+  std::ifstream f(path);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+// PDDL through the API (issue 32 item 5): the search and rescue domain and problem imported, solved
+// to the shipped optimum (11 s, tests/interchange/pddl_import_test.cpp) inline and once stored;
+// the CLI's import of the same files is the same model; problems at /domain or /problem with the
+// offset of their line.
+TEST(Domains, PddlImportsOverHttpAndTheModelSolvesToTheShippedOptimum) {
+  const std::string dir = testing::SourceDir() + "/tests/interchange/pddl/";
+  const std::string domain = ReadText(dir + "search_rescue_domain.pddl");
+  const std::string problem = ReadText(dir + "search_rescue_problem.pddl");
+  ServerProcess s(Json::object(), {"--data-dir", testing::TempDir("domains-pddl")});
+  auto c = Rc(s);
+  int status = 0;
+  Json a = Json::parse(Post(c, "/domains/import-pddl", {{"domain", domain}, {"problem", problem}}, &status));
+  ASSERT_EQ(status, 200) << a.dump();
+  EXPECT_EQ(a["stored"], false);
+  EXPECT_GT(a["ground_actions"].get<int>(), 0);
+  EXPECT_FALSE(a["actions"].empty());
+  // The CLI gives the same model (both go through the core).
+  const std::string out = testing::TempDir("domains-pddl-cli") + "/model.json";
+  const std::string cmd = std::string(CTB_BINARY) + " domain import-pddl " + dir + "search_rescue_domain.pddl " + dir +
+                          "search_rescue_problem.pddl -o " + out + " > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(ReadJson(out), a["action_model"]);
+  // Solved inline, and by name once stored.
+  Json solve = {{"action_model", a["action_model"]}, {"state_plan", a["state_plan"]}};
+  Json t = Json::parse(Post(c, "/solve", solve, &status));
+  ASSERT_EQ(status, 200) << t.dump();
+  EXPECT_EQ(t["status"], "optimal");
+  EXPECT_EQ(t["objective"]["value"], 11);
+  Json stored = Json::parse(Post(c, "/domains/import-pddl",
+                                 {{"domain", domain}, {"problem", problem}, {"name", "rescue_pddl"}, {"store", true}}, &status));
+  ASSERT_EQ(status, 201) << stored.dump();
+  EXPECT_EQ(stored["stored"], true);
+  EXPECT_EQ(Body(c.Get("/domains/rescue_pddl")), stored["action_model"]);
+  Json by_name = Json::parse(Post(c, "/solve", {{"domain", "rescue_pddl"}, {"state_plan", stored["state_plan"]}}, &status));
+  ASSERT_EQ(status, 200) << by_name.dump();
+  EXPECT_EQ(by_name["objective"]["value"], 11);
+  Post(c, "/domains/import-pddl", {{"domain", domain}, {"problem", problem}, {"name", "rescue_pddl"}, {"store", true}}, &status);
+  EXPECT_EQ(status, 409) << "the name is taken";
+  // A problem in the domain text: at /domain, the offset of its line and column.
+  std::string broken = domain;
+  const std::size_t at = broken.find("(:durative-action");
+  ASSERT_NE(at, std::string::npos);
+  broken.insert(at, "(:frobnicate)\n");
+  auto r = c.Post("/domains/import-pddl", Json({{"domain", broken}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 400) << r->body;
+  Json d = ErrorOf(r)["details"][0];
+  EXPECT_EQ(d["path"], "/domain");
+  ASSERT_TRUE(d.contains("offset")) << r->body;
+  EXPECT_EQ(broken.compare(d["offset"].get<std::size_t>(), 13, "(:frobnicate)"), 0) << r->body;
+  // A problem in the problem text: at /problem.
+  std::string bad_problem = problem;
+  bad_problem.replace(bad_problem.find("(at robot1 outside)"), 19, "(at robot9 outside)");
+  r = c.Post("/domains/import-pddl", Json({{"domain", domain}, {"problem", bad_problem}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 400) << r->body;
+  EXPECT_EQ(Pointers(r)[0], "/problem") << r->body;
+  // Bad requests.
+  r = c.Post("/domains/import-pddl", Json({{"domain", 5}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 400);
+  EXPECT_EQ(Pointers(r)[0], "/domain");
+  r = c.Post("/domains/import-pddl", Json({{"problem", problem}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 400);
+  EXPECT_EQ(Pointers(r)[0], "/domain");
+  r = c.Post("/domains/import-pddl", Json({{"domain", domain}, {"store", "yes"}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 400);
+  EXPECT_EQ(Pointers(r)[0], "/store");
+  r = c.Post("/domains/import-pddl", Json({{"domain", domain}, {"extra", 1}}).dump(), "application/json");
+  EXPECT_EQ(r->status, 400);
+}
+
 }  // namespace
 }  // namespace ctb
