@@ -41,6 +41,13 @@ M FromJson(const json& j) {
   return m;
 }
 
+// A message as JSON (protobuf's JSON mapping).
+json ToJson(const google::protobuf::Message& m) {
+  std::string out;
+  EXPECT_TRUE(google::protobuf::util::MessageToJsonString(m, &out).ok());
+  return json::parse(out);
+}
+
 // A server with both front ends; extra flags as given.
 struct GrpcServer {
   explicit GrpcServer(std::vector<std::string> args = {}, json config = json::object())
@@ -271,6 +278,37 @@ TEST(Grpc, CheckNetworkAnswersLikeHttp) {
   auto st = s.stub->CheckNetwork(&c3, q, &r);
   EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(st.error_message().find("/links/1/to"), std::string::npos) << st.error_message();
+}
+
+// ImportPddl (issue 32 item 5): the same model as HTTP POST /domains/import-pddl; a problem in the
+// domain text is INVALID_ARGUMENT naming /domain and the line.
+TEST(Grpc, ImportPddlGivesTheSameModelAsHttp) {
+  GrpcServer s;
+  auto text = [](const std::string& f) {
+    std::ifstream in(Src() + "/tests/interchange/pddl/" + f);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  pb::ImportPddlRequest q;
+  q.set_domain(text("search_rescue_domain.pddl"));
+  q.set_problem(text("search_rescue_problem.pddl"));
+  grpc::ClientContext c;
+  pb::ImportPddlResult r;
+  ASSERT_TRUE(s.stub->ImportPddl(&c, q, &r).ok());
+  auto http = s.proc.Client().Post("/domains/import-pddl", json({{"domain", q.domain()}, {"problem", q.problem()}}).dump(),
+                                   "application/json");
+  ASSERT_TRUE(http);
+  ASSERT_EQ(http->status, 200) << http->body;
+  const json h = json::parse(http->body);
+  EXPECT_EQ(ToJson(r.action_model()), h["action_model"]);
+  EXPECT_EQ(ToJson(r.state_plan()), h["state_plan"]);
+  EXPECT_EQ(r.ground_actions(), h["ground_actions"].get<long>());
+  EXPECT_EQ(r.actions_size(), static_cast<int>(h["actions"].size()));
+  EXPECT_FALSE(r.stored());
+  q.set_domain("(define (domain d) (:frobnicate))");
+  grpc::ClientContext c2;
+  auto st = s.stub->ImportPddl(&c2, q, &r);
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(st.error_message().find("domain.pddl:1:"), std::string::npos) << st.error_message();
 }
 
 TEST(Grpc, DomainsAreCreatedReadDrawnUsedAndDeleted) {
