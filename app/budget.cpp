@@ -6,16 +6,6 @@ namespace ctb::app {
 
 namespace {
 
-std::string Escape(const std::string& key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
-  }
-  return out;
-}
-
 BudgetExceeded Over(const std::string& pointer, const char* limit, long value, long actual,
                     const std::string& what) {
   std::string msg = what + ": " + std::to_string(actual) + ", over the server's limit of " +
@@ -43,7 +33,7 @@ std::optional<BudgetExceeded> Strings(const Json& j, const ModelBudget& b, const
   if (j.is_string()) return one(j.get_ref<const std::string&>(), ptr);
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) {
-      const std::string child = ptr + "/" + Escape(it.key());
+      const std::string child = ptr + "/" + PointerToken(it.key());
       if (auto e = one(it.key(), child)) return e;
       if (auto e = Strings(it.value(), b, child, total)) return e;
     }

@@ -99,7 +99,6 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
     else
       spdlog::warn("{}", LogText("--demo: no recordings in '" + cfg.recordings_dir + "'"));
   }
-  SetSolverMemoryLimitMb(cfg.solver_memory_mb);
   impl->ready = MiniZincAvailable(cfg.minizinc);
   if (!impl->ready) spdlog::warn("{}", LogText("minizinc is not runnable: solves fail"));
   std::unique_ptr<Core> core(new Core(std::move(impl)));

@@ -73,11 +73,20 @@ class Observer {
   // Each improving verified plan: {"kind", "objective", "cost", "makespan", "horizon", "bound"?,
   // "elapsed_ms"}.
   virtual void OnSolution(const Json& /*progress*/) {}
+  // A stream's place among the solver jobs, reserved before its 200 head went out
+  // (Core::ReserveJob); its job enters the gate with it. Null otherwise.
+  std::shared_ptr<class JobTicket> ticket;
+};
+
+// A solver place held ahead (Core::ReserveJob); given back when dropped unused.
+class JobTicket {
+ public:
+  virtual ~JobTicket() = default;
 };
 
 // Per call: who listens, when to stop, and the request id for the logs.
 struct CallContext {
-  Observer* observer = nullptr;
+  Observer* observer = nullptr;  // its ticket, when it has one, is the job's reserved place
   std::function<bool()> cancelled;  // polled; true stops the job (its solver is killed)
   std::string request_id;
 };
@@ -246,6 +255,11 @@ class Core {
   // Loads the shipped domains and opens the session store; an Error says what failed.
   static std::variant<std::unique_ptr<Core>, Error> Open(const CoreConfig& cfg);
   ~Core();
+
+  // A place among the solver jobs for a call that will come (a stream, before its head is
+  // sent, so that a busy server can still answer 503 with Retry-After); null when every place is
+  // taken. The call finds it in its observer's ticket.
+  std::shared_ptr<JobTicket> ReserveJob();
 
   std::variant<Answer, Error> Solve(const SolveCall& call, const CallContext& ctx);
   std::variant<ValidateAnswer, Error> Validate(const SolveCall& call);

@@ -148,6 +148,7 @@ std::variant<StatePlan, Error> Core::Impl::CheckPlan(const Json& j, const Domain
 std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& r) const {
   SolveOptions o;
   o.minizinc = cfg.minizinc;
+  o.memory_limit_mb = cfg.solver_memory_mb;
   o.time_limit_ms = cfg.default_time_limit_ms;
   o.portfolio = 1;  // one core per job: the gate bounds concurrency
   Diagnostics d;
@@ -186,10 +187,37 @@ std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StateP
   });
 }
 
+namespace {
+
+class GateTicket : public JobTicket {
+ public:
+  explicit GateTicket(JobGate& g) : gate_(g) {}
+  ~GateTicket() override {
+    if (!used_.exchange(true)) gate_.Unreserve();
+  }
+  // True the first time: the reserved place is this job's.
+  bool Use() { return !used_.exchange(true); }
+
+ private:
+  JobGate& gate_;
+  std::atomic<bool> used_{false};
+};
+
+}  // namespace
+
+std::shared_ptr<JobTicket> Core::ReserveJob() {
+  if (!impl_->gate.Reserve()) {
+    ++impl_->metrics.solver_rejected;
+    return nullptr;
+  }
+  return std::make_shared<GateTicket>(impl_->gate);
+}
+
 std::variant<Answer, Error> Core::Impl::RunGated(
     SolveOptions o, const CallContext& ctx,
     const std::function<std::variant<Json, Error>(const SolveOptions&)>& run) {
-  if (!gate.Enter(stopping)) {
+  auto* ticket = ctx.observer ? dynamic_cast<GateTicket*>(ctx.observer->ticket.get()) : nullptr;
+  if (!gate.Enter(stopping, ticket && ticket->Use())) {
     ++metrics.solver_rejected;
     return Error{ErrorCode::kBusy, "all solver slots are busy; retry later", {}};
   }

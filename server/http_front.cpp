@@ -580,13 +580,18 @@ class HttpFrontEnd::Impl {
     }));
   }
 
+  // A stream reserves its solver place before its 200 head goes out (server/stream.h).
+  std::function<std::shared_ptr<app::JobTicket>()> Reserver() {
+    return [this] { return core_.ReserveJob(); };
+  }
+
   void Routes() {
     SetUpServer();
     svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleSolve(q2, s2, o); });
+      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleSolve(q2, s2, o); });
     }));
     svr_.Post("/replan", Wrap("/replan", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandleReplan(q2, s2, o); });
+      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleReplan(q2, s2, o); });
     }));
     svr_.Post("/networks/check", Wrap("/networks/check", [this](auto& q, auto& s) {
       auto body = Body(q, s);
@@ -598,7 +603,7 @@ class HttpFrontEnd::Impl {
     svr_.Post("/validate", Wrap("/validate", [this](auto& q, auto& s) { HandleValidate(q, s); }));
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));
     svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
+      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
     }));
     DomainRoutes();
     ExecutionRoutes();

@@ -74,10 +74,18 @@ void SendBadStream(httplib::Response& res) {
   res.set_content(Json({{"error", err}}).dump(), "application/json");
 }
 
+// Every solver place is taken: the stream is refused before its head, as the route would be.
+void SendBusy(httplib::Response& res) {
+  Json err = {{"code", CodeName(ErrorCode::kBusy)}, {"message", "all solver slots are busy; retry later"}};
+  res.status = HttpStatus(ErrorCode::kBusy);
+  res.set_header("Retry-After", "2");
+  res.set_content(Json({{"error", err}}).dump(), "application/json");
+}
+
 }  // namespace
 
 void WithStreaming(const httplib::Request& req, httplib::Response& res, std::atomic<int>& in_flight,
-                   const RouteHandler& handler) {
+                   const std::function<std::shared_ptr<app::JobTicket>()>& reserve, const RouteHandler& handler) {
   Diagnostics d;
   auto body = ParseJsonStrict(req.body, d);
   if (!body || !body->is_object() || !body->contains("stream")) return handler(req, res, nullptr);
@@ -87,6 +95,8 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res, std::ato
   auto inner = std::make_shared<httplib::Request>(req);
   inner->body = body->dump();
   if (!stream.get<bool>()) return handler(*inner, res, nullptr);
+  std::shared_ptr<app::JobTicket> ticket = reserve();
+  if (!ticket) return SendBusy(res);
   const std::string request_id = ThreadRequestId();
   const auto t0 = Clock::now();
   res.set_header("Cache-Control", "no-cache");
@@ -96,10 +106,11 @@ void WithStreaming(const httplib::Request& req, httplib::Response& res, std::ato
   ++in_flight;  // counted from now: the provider runs after this handler returns
   res.set_chunked_content_provider(
       "text/event-stream",
-      [inner, run, counter, request_id, t0](std::size_t, httplib::DataSink& sink) {
+      [inner, run, counter, request_id, t0, ticket](std::size_t, httplib::DataSink& sink) mutable {
         SetThreadRequestId(request_id);
         EventStream stream(sink, t0);
         SseObserver observer(stream);
+        observer.ticket = std::move(ticket);
         httplib::Response answer;
         {
           try {

@@ -7,8 +7,10 @@
 //   event: done      the whole answer, exactly what the route answers without streaming
 // or, instead of done, a last
 //   event: error     {"status": <the HTTP status the route would answer>, "error": {...}}
-// The response itself is always 200 text/event-stream once streaming was asked for: a request
-// that turns out to be invalid gets an error event. A client that disconnects (or presses Stop)
+// The response is 200 text/event-stream once streaming was asked for and a solver place could be
+// reserved for it (`reserve`); a server whose places are all taken answers 503 busy with
+// Retry-After instead, before any head is sent. A request that turns out to be invalid gets an
+// error event. A client that disconnects (or presses Stop)
 // cancels the job: the route's own watcher sees the connection go and kills the solver.
 //
 // How it hooks into a route: WithStreaming() runs the route's ordinary handler inside the
@@ -36,6 +38,6 @@ using RouteHandler =
 // that is not a JSON object goes to the handler untouched (which reports it). `in_flight` counts
 // the streaming job while it runs (the shutdown drain waits for it); it must outlive the server.
 void WithStreaming(const httplib::Request& req, httplib::Response& res, std::atomic<int>& in_flight,
-                   const RouteHandler& handler);
+                   const std::function<std::shared_ptr<app::JobTicket>()>& reserve, const RouteHandler& handler);
 
 }  // namespace ctb::server

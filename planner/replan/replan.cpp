@@ -115,6 +115,7 @@ void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, con
   req.data = std::move(enc.data);
   req.time_limit_ms = time_left_ms;
   req.minizinc = so.minizinc;
+  req.memory_limit_mb = so.memory_limit_mb;
   req.cancel = so.cancel;
   RunResult r = DefaultBackend().Run(req);
   ans["stats"]["min_change_status"] = RunStatusName(r.status);

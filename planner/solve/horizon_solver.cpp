@@ -201,6 +201,7 @@ class Solver {
       if (z3) reqs[i].spec = &specs[i];
       reqs[i].time_limit_ms = remaining;
       reqs[i].minizinc = o_.minizinc;
+      reqs[i].memory_limit_mb = o_.memory_limit_mb;
       reqs[i].threads = o_.threads;
       reqs[i].cancel = &stop;
       // A plan that meets the proven bound is optimal: stop every run at once (the verifier

@@ -22,13 +22,6 @@ extern char** environ;
 
 namespace ctb {
 
-namespace {
-std::atomic<long> g_memory_limit_mb{0};
-}  // namespace
-
-void SetSolverMemoryLimitMb(long mb) { g_memory_limit_mb = mb < 0 ? 0 : mb; }
-long SolverMemoryLimitMb() { return g_memory_limit_mb.load(); }
-
 const char* RunStatusName(RunResult::Status s) {
   switch (s) {
     case RunResult::Status::kOptimal: return "optimal";

@@ -24,11 +24,6 @@
 
 namespace ctb {
 
-// The process-wide default for RunRequest::memory_limit_mb (0: no ceiling; initially 0). The
-// service sets it once at start-up from its configuration. Thread-safe.
-void SetSolverMemoryLimitMb(long mb);
-long SolverMemoryLimitMb();
-
 struct RunRequest {
   std::string model;
   Json data;
@@ -40,8 +35,8 @@ struct RunRequest {
   std::function<void(const Json& solution)> on_solution;
   // Checked every 50 ms; when it becomes true the child is stopped as at the time limit.
   const std::atomic<bool>* cancel = nullptr;
-  // Address-space ceiling of the child in MiB (0: none). Defaults to the process-wide setting.
-  long memory_limit_mb = SolverMemoryLimitMb();
+  // Address-space ceiling of the child in MiB (0: none): SolveOptions::memory_limit_mb.
+  long memory_limit_mb = 0;
   // The same model as data, for engines that build it from the checked trees (z3); MiniZinc
   // ignores it. Not owned; nullptr when the caller has only text.
   const ModelSpec* spec = nullptr;

@@ -38,6 +38,7 @@ struct SolveOptions {
   long time_limit_ms = 60000;          // for the whole solve
   std::string minizinc = "minizinc";
   int threads = 1;
+  long memory_limit_mb = 0;            // each solver process's address-space ceiling (0: none)
   bool decompose = true;               // solve independent parts separately and merge
   bool reuse_identical_parts = true;   // parts whose encodings are equal are solved once
   bool redundant = true;               // the encoder's redundant constraints (bench only)

@@ -367,6 +367,44 @@ TEST(ServiceStream, AnImprovingPlanArrivesBeforeTheAnswer) {
   EXPECT_EQ(events.back().data["objective"]["value"], 12);
 }
 
+// A stream reserves its solver place before its 200 head: with one place (1 worker, no queue)
+// taken by a running stream, another stream is refused before any head, like a plain request:
+// 503 busy with Retry-After, never a 200 whose last event is an error (seen under load by
+// bench/soak.py). Once the first stream is gone, the place serves again.
+TEST(ServiceStream, AStreamOnABusyServerIs503WithRetryAfterBeforeItsHead) {
+  testing::ServerProcess s({{"solver_workers", 1}, {"solver_queue", 0}}, {"--demo"});
+  const Json quick = {{"domain", "presentation"}, {"state_plan", Example("presentation/test1_cot.json")}, {"stream", true}};
+  {
+    SseClient first(s.port(), VerySlowSolve(), "/solve");
+    ASSERT_EQ(first.status(), 200);
+    SseClient second(s.port(), quick, "/solve");
+    EXPECT_EQ(second.status(), 503);
+    EXPECT_FALSE(second.Header("Retry-After").empty());
+    EXPECT_EQ(second.Header("Content-Type"), "application/json");
+    SseClient plan(s.port(), {{"domain", "presentation"}, {"command", kTp1}, {"stream", true}});
+    EXPECT_EQ(plan.status(), 503) << "a /plan stream reserves too";
+    auto c = s.Client();
+    auto plain = c.Post("/solve", Json({{"domain", "presentation"}, {"state_plan", Example("presentation/test1_cot.json")}}).dump(),
+                        "application/json");
+    ASSERT_TRUE(plain);
+    EXPECT_EQ(plain->status, 503);
+    EXPECT_FALSE(plain->get_header_value("Retry-After").empty());
+    first.Close();
+  }
+  // The hung-up stream gives its place back (its watcher stops the solver).
+  std::vector<Event> events;
+  for (int i = 0; i < 200; ++i) {
+    SseClient again(s.port(), quick, "/solve");
+    if (again.status() == 200) {
+      events = again.All();
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  ASSERT_FALSE(events.empty()) << "the place was not given back";
+  EXPECT_EQ(events.back().name, "done");
+}
+
 TEST(ServiceStream, AClientThatHangsUpCancelsTheSolver) {
   Server s;
   {
