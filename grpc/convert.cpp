@@ -189,11 +189,18 @@ grpc::Status StatusOf(const Error& e) {
   }
   if (!e.limit.empty()) text += "\nlimit: " + e.limit;
   const grpc::StatusCode code = CodeOf(e.code);
-  if (e.details.empty()) return grpc::Status(code, text);
+  // Busy or unavailable: when to try again, as HTTP's Retry-After says it (2 s and 1 s).
+  const bool retry = e.code == ErrorCode::kBusy || e.code == ErrorCode::kUnavailable;
+  if (e.details.empty() && !retry) return grpc::Status(code, text);
   google::rpc::Status st;
   st.set_code(static_cast<int>(code));
   st.set_message(text);
-  st.add_details()->PackFrom(bad);
+  if (!e.details.empty()) st.add_details()->PackFrom(bad);
+  if (retry) {
+    google::rpc::RetryInfo info;
+    info.mutable_retry_delay()->set_seconds(e.code == ErrorCode::kBusy ? 2 : 1);
+    st.add_details()->PackFrom(info);
+  }
   return grpc::Status(code, text, st.SerializeAsString());
 }
 

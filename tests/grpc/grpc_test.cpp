@@ -427,6 +427,32 @@ TEST(Grpc, CancelMidStreamKillsTheSolver) {
   EXPECT_TRUE(SolversGone(s.proc, 1500)) << "a solver outlived its cancelled stream";
 }
 
+// A busy refusal says when to try again, as HTTP's Retry-After does: RESOURCE_EXHAUSTED with a
+// google.rpc.RetryInfo of 2 s (seen without one by bench/soak.py).
+TEST(Grpc, ABusyRefusalSaysWhenToRetry) {
+  GrpcServer s({}, {{"solver_workers", 1}, {"solver_queue", 0}});
+  grpc::ClientContext hold;
+  auto reader = s.stub->SolveAnytime(&hold, LongSolve());
+  pb::PlanResult first;
+  ASSERT_TRUE(reader->Read(&first)) << "the long solve holds the one solver place once it reports";
+  grpc::ClientContext c;
+  pb::PlanResult r;
+  auto st = s.stub->Solve(&c, SolveOf("presentation", "config/examples/presentation/test1_cot.json", "cost"), &r);
+  ASSERT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << st.error_message();
+  google::rpc::Status details;
+  ASSERT_TRUE(details.ParseFromString(st.error_details()));
+  google::rpc::RetryInfo info;
+  bool found = false;
+  for (const auto& d : details.details())
+    if (d.Is<google::rpc::RetryInfo>()) found = d.UnpackTo(&info);
+  ASSERT_TRUE(found) << "no RetryInfo in the status details";
+  EXPECT_EQ(info.retry_delay().seconds(), 2);
+  hold.TryCancel();
+  while (reader->Read(&first)) {
+  }
+  reader->Finish();
+}
+
 TEST(Grpc, HealthAndReflectionAreOn) {
   GrpcServer s;
   auto health = grpc::health::v1::Health::NewStub(s.channel);

@@ -150,40 +150,28 @@ class ServerProcess {
                          std::vector<std::string> extra_args = {},
                          std::vector<std::pair<std::string, std::string>> env = {},
                          std::string log_path = "") {
-    port_ = FreeLoopbackPort();
-    std::string cfg_path;
-    if (!config.empty()) {
-      cfg_path = "/tmp/ctb-harness-" + std::to_string(getpid()) + "-" + std::to_string(port_) + ".json";
-      std::ofstream(cfg_path) << config.dump();
-    }
-    pid_ = fork();
-    if (pid_ == 0) {
-      for (const char* v : {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"}) unsetenv(v);
-      setenv("CTB_DATA_DIR", ("/tmp/ctb-harness-data-" + std::to_string(getpid())).c_str(), 1);
-      for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
-      setenv("CTB_CONFIG_DIR", (SourceDir() + "/config").c_str(), 1);
-      setenv("CTB_PROMPTS_DIR", (SourceDir() + "/prompts").c_str(), 1);
-      int devnull = open("/dev/null", O_WRONLY);
-      dup2(devnull, 1);
-      if (!log_path.empty()) {
-        int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        dup2(log, 2);
+    // The port is free when picked but another test's process may take it before the server
+    // binds (tests run in parallel): a server that exits before it answers is started again on
+    // another port.
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      port_ = FreeLoopbackPort();
+      std::string cfg_path;
+      if (!config.empty()) {
+        cfg_path = "/tmp/ctb-harness-" + std::to_string(getpid()) + "-" + std::to_string(port_) + ".json";
+        std::ofstream(cfg_path) << config.dump();
       }
-      std::vector<std::string> args = {CTB_BINARY, "serve", "--port", std::to_string(port_)};
-      if (!cfg_path.empty()) {
-        args.push_back("--config");
-        args.push_back(cfg_path);
+      pid_ = fork();
+      if (pid_ == 0) Exec(cfg_path, extra_args, env, log_path);
+      for (int i = 0; i < 400; ++i) {
+        if (Health(port_, "127.0.0.1", 500).status == 200) return;
+        int status = 0;
+        if (waitpid(pid_, &status, WNOHANG) == pid_) {
+          pid_ = -1;
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(25));
       }
-      for (auto& a : extra_args) args.push_back(a);
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(CTB_BINARY, argv.data());
-      _exit(127);
-    }
-    for (int i = 0; i < 400; ++i) {
-      if (Health(port_, "127.0.0.1", 500).status == 200) return;
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+      if (pid_ > 0) break;  // running but not answering: no second try
     }
     ADD_FAILURE() << "server did not start";
   }
@@ -247,6 +235,33 @@ class ServerProcess {
       if (line.rfind(field, 0) == 0) return std::atol(line.c_str() + std::strlen(field)) / 1024;
     return -1;
   }
+  // In the child: the server's environment, output and arguments; never returns.
+  [[noreturn]] void Exec(const std::string& cfg_path, std::vector<std::string> extra_args,
+                         const std::vector<std::pair<std::string, std::string>>& env, const std::string& log_path) {
+    for (const char* v : {"CTB_LLM_BASE_URL", "CTB_LLM_REPLAY", "CTB_LLM_RECORD", "CTB_LLM_API_KEY"}) unsetenv(v);
+    setenv("CTB_DATA_DIR", ("/tmp/ctb-harness-data-" + std::to_string(getpid())).c_str(), 1);
+    for (auto& [k, v] : env) setenv(k.c_str(), v.c_str(), 1);
+    setenv("CTB_CONFIG_DIR", (SourceDir() + "/config").c_str(), 1);
+    setenv("CTB_PROMPTS_DIR", (SourceDir() + "/prompts").c_str(), 1);
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    if (!log_path.empty()) {
+      int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(log, 2);
+    }
+    std::vector<std::string> args = {CTB_BINARY, "serve", "--port", std::to_string(port_)};
+    if (!cfg_path.empty()) {
+      args.push_back("--config");
+      args.push_back(cfg_path);
+    }
+    for (auto& a : extra_args) args.push_back(a);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(CTB_BINARY, argv.data());
+    _exit(127);
+  }
+
   int port_ = 0;
   pid_t pid_ = -1;
 };

@@ -116,7 +116,9 @@ class Tmpfs {
 // The domains stored through the API (the three shipped ones left out), by name.
 std::map<std::string, Json> StoredDomains(httplib::Client& c) {
   std::map<std::string, Json> out;
-  auto list = Call(c, "GET", "/domains");
+  // Not recorded for the OpenAPI check: after a burst the list is longer than the 1 MiB the
+  // recorder keeps of an answer (each domain it names is recorded below).
+  auto list = c.Get("/domains");
   EXPECT_TRUE(list && list->status == 200);
   if (!list || list->status != 200) return out;
   const Json listed = Json::parse(list->body);
@@ -340,6 +342,9 @@ TEST(Storage, RedisDownAtStartAndStoppingMidDialogueIsRefusedByNameThenResumed) 
   fs::remove_all(dir);
 }
 
+// Each burst document spans a whole SQLite page (4 KiB).
+constexpr std::size_t kBurstPad = 4000;
+
 TEST(Storage, KillDashNineDuringABurstOfConcurrentWritesLosesNoAcknowledgedWrite) {
   const std::string data = testing::TempDir("storage-kill");
   MockLlmServer m;
@@ -365,7 +370,7 @@ TEST(Storage, KillDashNineDuringABurstOfConcurrentWritesLosesNoAcknowledgedWrite
               sessions.insert(Json::parse(r->body)["session"].get<std::string>());
             }
           } else {  // a new domain
-            Json d = Model("w" + std::to_string(w) + "n" + std::to_string(i), 4000);
+            Json d = Model("w" + std::to_string(w) + "n" + std::to_string(i), kBurstPad);
             auto r = c.Post("/domains", d.dump(), "application/json");
             if (!r) return;
             if (r->status == 201) {
@@ -392,7 +397,7 @@ TEST(Storage, KillDashNineDuringABurstOfConcurrentWritesLosesNoAcknowledgedWrite
     ASSERT_EQ(stored.count(name), 1u) << name << " was acknowledged and is lost";
     EXPECT_EQ(stored[name], doc);
   }
-  for (const auto& [name, doc] : stored) EXPECT_EQ(doc, Model(name, 4000)) << "half-written: " << name;
+  for (const auto& [name, doc] : stored) EXPECT_EQ(doc, Model(name, kBurstPad)) << "half-written: " << name;
   for (const auto& id : sessions) {
     auto r = Call(c, "GET", "/sessions/" + id);
     ASSERT_EQ(r->status, 200) << id << " was acknowledged and is lost";
