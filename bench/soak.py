@@ -23,12 +23,15 @@ ports with gRPC on, CTB_CONFIG_DIR=config, CTB_LLM_REPLAY=tests/recordings/thesi
                 (/solve and /plan), and gRPC calls cancelled mid-solve; a refused try is
                 repeated after 0.1-0.3 s until admitted (else they would hardly get a slot)
 A refused client waits as told (Retry-After, jittered to 0.5-1x; 1-2 s without one).
-Every response is classified: ok (2xx), refused (503 or 429 with Retry-After; gRPC
-RESOURCE_EXHAUSTED), refused_in_stream (an SSE `event: error` with status 503 `busy`: the 200
-and its headers are already sent, so no Retry-After can come), client_error (a deliberate bad
-request answered with the status it should get), disconnect (a deliberate early close), and
-unexpected (anything else: 5xx, a 503 without Retry-After, a reset or timeout we did not cause,
-a 200 whose plan is not verified). Writes OUT/soak.json and OUT/soak.md.
+Every response is classified: ok (2xx), refused (503 or 429 with Retry-After, a stream's
+included: since git 5e6d408 a stream reserves its solver place before its 200 head, so a busy
+server refuses it before any event; gRPC RESOURCE_EXHAUSTED or UNAVAILABLE whose trailing
+grpc-status-details-bin is a google.rpc.Status with a google.rpc.RetryInfo detail), client_error
+(a deliberate bad request answered with the status it should get), disconnect (a deliberate
+early close), and unexpected (anything else: 5xx, a 503 without Retry-After, a gRPC refusal
+without RetryInfo, a stream answered 200 then ended by an `event: error` 503 `busy` (counted
+apart as "in-stream busy", the first run's 2,307), a reset or timeout we did not cause, a 200
+whose plan is not verified). Writes OUT/soak.json and OUT/soak.md.
 
 Needs grpcio (Debian's python3-grpcio); when the python3 on PATH lacks it, the script re-runs
 itself with /usr/bin/python3.
@@ -77,7 +80,10 @@ CLIENTS = {"solve": 3, "solve_stream": 2, "grpc_solve": 2, "plan": 1, "plan_stre
            "replan": 1, "domains": 1, "disconnect": 1}
 HTTP_TIMEOUT = 120
 KEEP_ALIVE_REUSE_S = 3.0
-CLASSES = ("ok", "refused", "refused_in_stream", "client_error", "disconnect", "unexpected")
+CLASSES = ("ok", "refused", "client_error", "disconnect", "unexpected")
+# the status recorded for a stream answered 200 then ended by a busy error event (unexpected
+# since streams reserve their solver place before the head; the first run had 2,307)
+IN_STREAM_BUSY = "200+error 503 busy"
 
 EXAMPLES = ["presentation/test1_cot", "presentation/test1_direct", "presentation/test2_cot",
             "presentation/test2_direct", "presentation/impossible_off_within59",
@@ -130,7 +136,7 @@ class Stats:
                 r["lat_ok"].append(seconds)
                 m = int((now - self.t0) // 60)
                 r["per_minute"][m] = r["per_minute"].get(m, 0) + 1
-            elif cls in ("refused", "refused_in_stream"):
+            elif cls == "refused":
                 r["lat_refused"].append(seconds)
             if cls == "unexpected":
                 n = sum(1 for e in self.examples if e["route"] == route)
@@ -155,7 +161,7 @@ _tls = threading.local()
 
 def backoff(retry_after):
     """A refused client waits as told (Retry-After seconds, jittered to 0.5-1x), as a
-    well-behaved client does; an in-stream refusal has no header: 1-2 s. The early closers
+    well-behaved client does; without a hint (an unexpected refusal): 1-2 s. The early closers
     retry after 0.1-0.3 s instead, or they would hardly ever get a solver slot to leave."""
     if getattr(_tls, "fast_retry", False):
         time.sleep(random.uniform(0.1, 0.3))
@@ -325,7 +331,10 @@ def do_stream(stats, port, route, path, body, req_desc, check):
         except ValueError:
             ed = {}
         if ed.get("status") == 503 and ed.get("error", {}).get("code") == "busy":
-            stats.rec(route, "refused_in_stream", dt, "200+error 503 busy")
+            # refused after the 200 head: no Retry-After can follow (the first run's finding)
+            stats.rec(route, "unexpected", dt, IN_STREAM_BUSY,
+                      {"request": req_desc, "error_event": cut(err), "events": events[-5:],
+                       "problem": "busy error event inside a 200 stream"})
             backoff(ed.get("error", {}).get("retry_after"))
         else:
             stats.rec(route, "unexpected", dt, f"200+error {ed.get('status')}",
@@ -519,6 +528,12 @@ def close_socket(s, rst):
     s.close()
 
 
+def refusals(stats, route):
+    """Refused tries of a route so far (a busy event inside a stream included)."""
+    r = stats.routes.get(route, {})
+    return r.get("counts", {}).get("refused", 0) + r.get("statuses", {}).get(IN_STREAM_BUSY, 0)
+
+
 def w_disconnect(ctx, rng):
     slow = [(f"{e} {o}", e.split("/")[0],
              json.load(open(os.path.join(ROOT, "config", "examples", e + ".json"))), o)
@@ -531,11 +546,9 @@ def w_disconnect(ctx, rng):
                                       "mid-stream /plan", "gRPC cancel"]), 0
         tries += 1
         route = f"early close: {kind}"
-        c = ctx.stats.routes.get(route, {}).get("counts", {})
-        refused_before = c.get("refused", 0) + c.get("refused_in_stream", 0)
+        refused_before = refusals(ctx.stats, route)
         one_close(ctx, rng, slow, kind, route)
-        c = ctx.stats.routes.get(route, {}).get("counts", {})
-        if c.get("refused", 0) + c.get("refused_in_stream", 0) == refused_before:
+        if refusals(ctx.stats, route) == refused_before:
             kind = None
 
 
@@ -609,8 +622,10 @@ def one_close(ctx, rng, slow, kind, route):
             ctx.stats.rec(route, "unexpected", dt, first, {"request": kind, "body": cut(got)})
             return
         if b"event: error" in got:
-            if b'"busy"' in got:
-                ctx.stats.rec(route, "refused_in_stream", dt, "200+error 503 busy")
+            if b'"busy"' in got:  # refused after the 200 head: unexpected since git 5e6d408
+                ctx.stats.rec(route, "unexpected", dt, IN_STREAM_BUSY,
+                              {"request": kind, "body": cut(got[head_end:]),
+                               "problem": "busy error event inside a 200 stream"})
                 backoff(0.5)
             else:
                 ctx.stats.rec(route, "unexpected", dt, "200+error",
@@ -662,6 +677,62 @@ def grpc_request(ctx, dom, plan, obj):
     return r
 
 
+def _pb_fields(buf):
+    """The (field number, value) pairs of one protobuf message (wire types 0, 1, 2, 5)."""
+    out, i = [], 0
+
+    def varint():
+        nonlocal i
+        v, shift = 0, 0
+        while True:
+            b = buf[i]
+            i += 1
+            v |= (b & 0x7F) << shift
+            shift += 7
+            if not b & 0x80:
+                return v
+    while i < len(buf):
+        key = varint()
+        wt = key & 7
+        if wt == 0:
+            val = varint()
+        elif wt == 1:
+            val, i = buf[i:i + 8], i + 8
+        elif wt == 2:
+            n = varint()
+            val, i = buf[i:i + n], i + n
+        elif wt == 5:
+            val, i = buf[i:i + 4], i + 4
+        else:
+            raise ValueError(f"wire type {wt}")
+        out.append((key >> 3, val))
+    return out
+
+
+def retry_info(trailing):
+    """The retry delay in seconds of the google.rpc.RetryInfo in a gRPC error's trailing
+    grpc-status-details-bin (a google.rpc.Status: 3 = repeated google.protobuf.Any, whose
+    1 = type_url and 2 = value; RetryInfo: 1 = retry_delay, a Duration of 1 = seconds and
+    2 = nanos), or None when there is none. Decoded by hand: no generated code is needed."""
+    md = dict(trailing or ())
+    raw = md.get("grpc-status-details-bin")
+    if not raw:
+        return None
+    try:
+        for f, any_ in _pb_fields(raw):
+            if f != 3:
+                continue
+            a = dict(_pb_fields(any_))
+            if not a.get(1, b"").decode("utf-8", "replace").endswith("google.rpc.RetryInfo"):
+                continue
+            d = dict(_pb_fields(a.get(2, b""))).get(1, b"")  # retry_delay
+            dur = dict(_pb_fields(d))
+            return dur.get(1, 0) + dur.get(2, 0) / 1e9
+    except (ValueError, IndexError):
+        return None
+    return None
+
+
 def grpc_outcome(ctx, route, fut, dt, label):
     grpc = ctx.grpc
     pb = ctx.pb[1]
@@ -669,12 +740,21 @@ def grpc_outcome(ctx, route, fut, dt, label):
         r = fut.result()
     except grpc.RpcError as e:
         code = e.code()
-        if code == grpc.StatusCode.RESOURCE_EXHAUSTED and "busy" in (e.details() or ""):
-            ctx.stats.rec(route, "refused", dt, code.name)
-            md = dict(e.trailing_metadata() or ())
-            if md:
-                ctx.stats.note(route, "RESOURCE_EXHAUSTED trailing metadata keys: " + ",".join(sorted(md)))
-            backoff(md.get("retry-after"))
+        if code in (grpc.StatusCode.RESOURCE_EXHAUSTED, grpc.StatusCode.UNAVAILABLE):
+            # busy (or unavailable): a refusal only with a google.rpc.RetryInfo saying when to
+            # try again, as HTTP's 503 needs its Retry-After
+            md = e.trailing_metadata() or ()
+            delay = retry_info(md)
+            if delay is not None:
+                ctx.stats.rec(route, "refused", dt, code.name)
+                ctx.stats.note(route, f"{code.name} RetryInfo {delay:g} s")
+                backoff(delay)
+            else:
+                ctx.stats.rec(route, "unexpected", dt, code.name,
+                              {"request": label, "details": cut(e.details() or ""),
+                               "problem": "no google.rpc.RetryInfo in grpc-status-details-bin",
+                               "trailing_keys": sorted(k for k, _ in md)})
+                backoff(None)
         elif code == grpc.StatusCode.CANCELLED and route.startswith("early close"):
             ctx.stats.rec(route, "disconnect", dt, code.name)
         else:
@@ -1061,13 +1141,26 @@ def compute_verdict(res):
         "threads_at_warmup": base["threads"], "threads_end": last["threads"],
         "threads_max_after_warmup": max(s["threads"] for s in after),
         "children_after_traffic": idle[0]["children"] if idle else None,
-        "unexpected": totals["unexpected"], "refused_in_stream": totals["refused_in_stream"]})
+        "unexpected": totals["unexpected"],
+        "in_stream_busy": sum(r.get("statuses", {}).get(IN_STREAM_BUSY, 0)
+                              for r in res["routes"].values()),
+        "grpc_refusals_with_retry_info": retry_info_notes(res)})
     rss_ok = growth <= max(5.0, 0.10 * base["rss_mb"])
     fd_ok = last["fds"] <= base["fds"] + 4 and (not idle or idle[0]["fds"] <= base["fds"] + 4)
     v["rss_ok"], v["fds_ok"] = rss_ok, fd_ok
     v["holds"] = bool(rss_ok and fd_ok and totals["unexpected"] == 0 and not v.get("crash")
                       and not v.get("stuck_client_threads"))
     return v
+
+
+def retry_info_notes(res):
+    """gRPC refusals with a RetryInfo, by code and delay (from the notes)."""
+    out = {}
+    for d in (res.get("notes") or {}).values():
+        for k, n in d.items():
+            if " RetryInfo " in k:
+                out[k] = out.get(k, 0) + n
+    return out
 
 
 def write_results(res, out, append=None):
@@ -1096,24 +1189,30 @@ def write_md(path, res):
          f"{res['server']['config']}, gRPC on, `CTB_LLM_REPLAY=tests/recordings/thesis`, a fresh "
          "`--data-dir`. Clients (threads): " +
          ", ".join(f"{k} {n}" for k, n in res["clients"].items()) + ".", "",
-         "Classes: **ok** 2xx; **refused** 503/429 with `Retry-After` (gRPC `RESOURCE_EXHAUSTED` "
-         "busy); **in-stream** a `\"stream\": true` request refused after its 200 was sent "
-         "(`event: error` with `status: 503`, `busy`; no header can follow); **client err** a "
-         "deliberate bad request answered as it should; **closed** a deliberate early close "
-         "(no answer expected); **unexpected** anything else. Latencies are of ok answers, whole "
+         "Classes: **ok** 2xx; **refused** 503/429 with `Retry-After`, streams included (a "
+         "`\"stream\": true` request now reserves its solver place before its 200 head, so a busy "
+         "server refuses it with a 503 before any event), and gRPC `RESOURCE_EXHAUSTED` or "
+         "`UNAVAILABLE` whose trailing `grpc-status-details-bin` is a `google.rpc.Status` with a "
+         "`google.rpc.RetryInfo` detail (decoded); **client err** a deliberate bad request "
+         "answered as it should; **closed** a deliberate early close (no answer expected); "
+         "**unexpected** anything else, including a stream answered 200 then ended by an "
+         "`event: error` 503 `busy` (column **in-stream busy**, a part of unexpected; the first "
+         "run's 2,307) and a gRPC refusal without `RetryInfo`. Latencies are of ok answers, whole "
          "request to last byte (streams: to `event: done`), queueing for a solver slot included.",
-         "", "| route | total | ok | refused | in-stream | client err | closed | unexpected | "
+         "", "| route | total | ok | refused | client err | closed | unexpected | in-stream busy | "
          "ok/min | p50 ms | p99 ms | max ms |", "|---|" + "---|" * 11]
     mins = max(res["traffic_s"] / 60, 1e-9)
     for name, r in res["routes"].items():
         c = r["counts"]
-        L.append(f"| {name} | {r['total']} | {c['ok']} | {c['refused']} | {c['refused_in_stream']} | "
+        L.append(f"| {name} | {r['total']} | {c['ok']} | {c['refused']} | "
                  f"{c['client_error']} | {c['disconnect']} | {c['unexpected']} | "
+                 f"{r['statuses'].get(IN_STREAM_BUSY, 0)} | "
                  f"{c['ok'] / mins:.1f} | {r.get('p50_ms', '')} | {r.get('p99_ms', '')} | "
                  f"{r.get('max_ms', '')} |")
     t = res["totals"]
-    L.append(f"| **all** | {sum(t.values())} | {t['ok']} | {t['refused']} | {t['refused_in_stream']} | "
-             f"{t['client_error']} | {t['disconnect']} | {t['unexpected']} | {t['ok'] / mins:.1f} | | | |")
+    L.append(f"| **all** | {sum(t.values())} | {t['ok']} | {t['refused']} | "
+             f"{t['client_error']} | {t['disconnect']} | {t['unexpected']} | {v['in_stream_busy']} | "
+             f"{t['ok'] / mins:.1f} | | | |")
     L += ["", "ok answers per minute (all routes): " + ", ".join(map(str, res["per_minute_ok"])), "",
           "## The server over time", "",
           "| UTC | min | phase | RSS MB | peak RSS MB | open fds | threads | solver procs | "
@@ -1156,8 +1255,10 @@ def write_md(path, res):
              f"at most {v['threads_max_after_warmup']}. {'No fd growth' if fd_ok else 'FD GROWTH'} "
              "(threshold: +4). Solver processes left 10 s after the traffic: "
              f"{v['children_after_traffic']}.")
-    L.append(f"- Unexpected answers: {v['unexpected']}. Refused inside a stream (200, then "
-             f"`event: error` 503 `busy`, no `Retry-After`): {v['refused_in_stream']}.")
+    L.append(f"- Unexpected answers: {v['unexpected']}, of which refused inside a stream (200, then "
+             f"`event: error` 503 `busy`, no `Retry-After`): {v['in_stream_busy']}. gRPC refusals "
+             "with a `google.rpc.RetryInfo` (code, delay: count): "
+             f"{v['grpc_refusals_with_retry_info'] or 'none'}.")
     if v["crash"]:
         L.append(f"- **The server died**: {v['crash']}.")
     if v["stuck_client_threads"]:
@@ -1176,8 +1277,8 @@ def write_md(path, res):
     L.append(f"- **Claim {'holds' if v['holds'] else 'does not hold'}**: "
              + ("no growth after warm-up and every refusal a 503 with `Retry-After`"
                 if v["holds"] else "; ".join(why))
-             + (f"; streams refuse in-band ({v['refused_in_stream']} times: 200, then a 503 "
-                "`busy` event without a retry hint)" if v["refused_in_stream"] else "") + ".")
+             + (f" ({v['in_stream_busy']} of them streams refused in-band: 200, then a 503 "
+                "`busy` event without a retry hint)" if v["in_stream_busy"] else "") + ".")
     if res["unexpected_examples"]:
         L += ["", "### Unexpected answers (first 5 per route)", ""]
         for e in res["unexpected_examples"]:
