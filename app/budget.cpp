@@ -99,6 +99,33 @@ std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBud
   return Strings(model, b, pointer, total);
 }
 
+std::optional<BudgetExceeded> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
+                                                  const std::string& pointer) {
+  const std::string at = pointer + "/automata";
+  const char* after = " after expanding templates";
+  const long k = static_cast<long>(d.automata.size());
+  if (k > b.max_automata) return Over(at, "max_automata", b.max_automata, k, std::string("automata") + after);
+  long locations = 0, transitions = 0, largest = 0;
+  for (const auto& a : d.automata) {
+    const long n = static_cast<long>(a.locations.size());
+    if (n > b.max_locations_per_automaton)
+      return Over(at, "max_locations_per_automaton", b.max_locations_per_automaton, n,
+                  "locations in automaton '" + a.name + "'" + after);
+    largest = std::max(largest, n);
+    locations += n;
+    transitions += static_cast<long>(a.transitions.size());
+  }
+  if (locations > b.max_locations_total)
+    return Over(at, "max_locations_total", b.max_locations_total, locations, std::string("locations") + after);
+  if (transitions > b.max_transitions)
+    return Over(at, "max_transitions", b.max_transitions, transitions, std::string("transitions") + after);
+  const long cells = (k + 1) * (largest + 1) * (largest + 1);
+  if (cells > b.max_table_cells)
+    return Over(at, "max_table_cells", b.max_table_cells, cells,
+                std::string("derived table cells, (automata + 1) x (largest automaton's locations + 1)^2") + after);
+  return std::nullopt;
+}
+
 std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget& b,
                                              const std::string& pointer, long string_total) {
   if (!plan.is_object()) return std::nullopt;

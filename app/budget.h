@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "planner/model/domain.h"
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
 
@@ -42,6 +43,11 @@ struct BudgetExceeded {
 // `pointer` is where the JSON sits in the request ("/action_model", "/state_plan").
 std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBudget& b,
                                                const std::string& pointer);
+// The same limits on the model as loaded, templates expanded (a template's parameters can make a
+// short document a large model); counts only, the strings were checked as written. The detail's
+// pointer is `pointer`/automata; the message says "after expanding templates".
+std::optional<BudgetExceeded> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
+                                                  const std::string& pointer);
 // `string_total` carries the string bytes already counted (the inline action model's) so the
 // total bound covers both parts of one request.
 std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget& b,

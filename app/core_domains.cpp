@@ -49,8 +49,13 @@ std::optional<Error> CheckDocument(const Json& doc, const ModelBudget& budget) {
     return e;
   }
   Diagnostics d;
-  if (!LoadDomain(doc, d))
-    return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", d);
+  auto dom = LoadDomain(doc, d);
+  if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", d);
+  if (auto over = CheckExpandedDomain(*dom, budget, "")) {
+    Error e = over->error;
+    e.limit = over->ToJson().dump();
+    return e;
+  }
   return std::nullopt;
 }
 

@@ -133,6 +133,11 @@ std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::ResolveDomain(
   auto dom = LoadDomain(*ref.action_model, d);
   for (const auto& e : d.errors()) prefixed.Error("/action_model" + e.pointer, e.message, e.offset);
   if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", prefixed);
+  if (auto over = CheckExpandedDomain(*dom, cfg.budget, "/action_model")) {
+    Error e = over->error;
+    e.limit = over->ToJson().dump();
+    return e;
+  }
   return std::make_shared<const Domain>(std::move(*dom));
 }
 

@@ -53,19 +53,24 @@ bool IsUnsetValue(const google::protobuf::Message& m) {
              google::protobuf::Value::KIND_NOT_SET;
 }
 
-// Whether m holds a Value without a kind, at any depth.
-bool HasUnsetValue(const google::protobuf::Message& m) {
+// Whether m holds, at any depth, a Value without a kind or unknown fields. Also found by fuzzing:
+// protobuf's JSON printer (3.21) writes nothing at all for a google.protobuf.ListValue whose bytes
+// hold only unknown fields (e.g. a field 2), so a duration of the wrong shape vanished and the
+// transition loaded with no duration; with the unknown fields dropped first (proto3 ignores them)
+// it is printed as [], which the loader refuses at its pointer.
+bool NeedsMending(const google::protobuf::Message& m) {
   using google::protobuf::FieldDescriptor;
   if (IsUnsetValue(m)) return true;
   const auto* desc = m.GetDescriptor();
   const auto* refl = m.GetReflection();
+  if (!refl->GetUnknownFields(m).empty()) return true;
   for (int i = 0; i < desc->field_count(); ++i) {
     const FieldDescriptor* f = desc->field(i);
     if (f->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) continue;
     if (f->is_repeated()) {
       for (int k = 0; k < refl->FieldSize(m, f); ++k)
-        if (HasUnsetValue(refl->GetRepeatedMessage(m, f, k))) return true;
-    } else if (refl->HasField(m, f) && HasUnsetValue(refl->GetMessage(m, f))) {
+        if (NeedsMending(refl->GetRepeatedMessage(m, f, k))) return true;
+    } else if (refl->HasField(m, f) && NeedsMending(refl->GetMessage(m, f))) {
       return true;
     }
   }
@@ -99,11 +104,12 @@ Json ToJson(const google::protobuf::Message& m) {
   google::protobuf::util::JsonPrintOptions o;
   o.preserve_proto_field_names = true;
   std::string text;
-  std::unique_ptr<google::protobuf::Message> marked;  // a copy, only when there is a Value to mark
+  std::unique_ptr<google::protobuf::Message> marked;  // a copy, only when there is something to mend
   const google::protobuf::Message* print = &m;
-  if (HasUnsetValue(m)) {
+  if (NeedsMending(m)) {
     marked.reset(m.New());
     marked->CopyFrom(m);
+    marked->DiscardUnknownFields();
     MarkUnsetValues(marked.get());
     print = marked.get();
   }

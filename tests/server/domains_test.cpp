@@ -367,5 +367,28 @@ TEST(Domains, PddlImportsOverHttpAndTheModelSolvesToTheShippedOptimum) {
   EXPECT_EQ(r->status, 400);
 }
 
+
+// The request budget counts the model as loaded, templates expanded (found by the domain fuzz
+// target, tests/fuzz/domain/regressions/template_expands_past_budget): the shipped rescue team
+// with 77 robots is 3 automata as written and 80 once expanded, over the 64 allowed.
+TEST(Domains, TheBudgetCountsTheModelAfterItsTemplatesAreExpanded) {
+  ServerProcess s(Json::object(), {"--data-dir", testing::TempDir("domains-expanded")});
+  auto c = Rc(s);
+  Json team = ReadJson(testing::SourceDir() + "/config/templates/search_rescue_team.json");
+  team["parameters"]["N"] = 77;
+  team["name"] = "big_team";
+  auto r = c.Post("/domains", team.dump(), "application/json");
+  ASSERT_EQ(r->status, 413) << r->body;
+  EXPECT_NE(ErrorOf(r)["message"].get<std::string>().find("after expanding templates"), std::string::npos) << r->body;
+  EXPECT_EQ(ErrorOf(r)["limit"]["name"], "max_automata") << r->body;
+  EXPECT_EQ(c.Get("/domains/big_team")->status, 404) << "nothing stored";
+  r = c.Post("/solve", Json({{"action_model", team}, {"state_plan", DronesPlan()}}).dump(), "application/json");
+  ASSERT_EQ(r->status, 413) << r->body;
+  EXPECT_EQ(Pointers(r)[0], "/action_model/automata");
+  // Within the budget once expanded: stored.
+  team["parameters"]["N"] = 4;
+  EXPECT_EQ(c.Post("/domains", team.dump(), "application/json")->status, 201);
+}
+
 }  // namespace
 }  // namespace ctb
