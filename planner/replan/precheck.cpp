@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "planner/analyze/analyze.h"
 #include "planner/expr/expr_print.h"
@@ -9,6 +10,14 @@
 namespace ctb::replan {
 
 namespace {
+
+// a - b, saturated at the range of long: history times may be at its ends (found by the replan
+// fuzz target: a time of -2^63 made h.time(k) - t0 overflow).
+long Minus(long a, long b) {
+  long r;
+  if (__builtin_sub_overflow(a, b, &r)) return a > b ? std::numeric_limits<long>::max() : std::numeric_limits<long>::min();
+  return r;
+}
 
 std::string Secs(long ticks, long tps) {
   if (tps == 1) return std::to_string(ticks);
@@ -109,9 +118,9 @@ PartHistory TemporalHistory(const Temporal& tc, int q, const HistoryView& h, con
   }
   r.other = c1 ? &tc.event2 : &tc.event1;
   for (int k = r.first + 1; k <= p && !r.done; ++k)
-    r.done = h.AtEvent(*r.other, k, active) && h.time(k) - t0 >= lo && h.time(k) - t0 <= up;
+    r.done = h.AtEvent(*r.other, k, active) && Minus(h.time(k), t0) >= lo && Minus(h.time(k), t0) <= up;
   if (r.done) return r;
-  if (now - t0 <= up) {
+  if (Minus(now, t0) <= up) {
     r.open_now = true;
     return r;
   }
@@ -137,7 +146,7 @@ PartHistory EpisodeHistory(const Episode& ep, int e, const HistoryView& h, const
   const long lo = Ticks(ep.lower, tps), up = Ticks(ep.upper, tps), t0 = h.time(r.first);
   int fail = -1;
   for (int k = r.first; k <= p && fail < 0 && !r.done; ++k) {
-    if (k > r.first && h.time(k) - t0 >= lo && h.time(k) - t0 <= up) r.done = true;  // may end at k
+    if (k > r.first && Minus(h.time(k), t0) >= lo && Minus(h.time(k), t0) <= up) r.done = true;  // may end at k
     else if (!h.OnStage(ep.state, k, active)) fail = k;
   }
   if (r.done) return r;
@@ -148,7 +157,7 @@ PartHistory EpisodeHistory(const Episode& ep, int e, const HistoryView& h, const
                                  " s and its state constraint stopped holding before it could "
                                  "last its lower bound of " + Secs(lo, tps) + " s",
                         h.time(fail), tps);
-  } else if (now - t0 > up) {
+  } else if (Minus(now, t0) > up) {
     r.broken = Conflict(ptr, name + " was broken at t = " + Secs(t0 + up, tps) + " s: it started at t = " +
                                  Secs(t0, tps) + " s and had not ended by its upper bound of " +
                                  Secs(up, tps) + " s (now is " + Secs(now, tps) + " s)",
