@@ -244,6 +244,9 @@ struct PddlImportAnswer {
   // {"command", "automaton", "pddl", "durative"}: how the model names each ground action.
   Json actions = Json::array();
   bool stored = false;
+
+  // The answer as HTTP gives it (gRPC maps it, leaving a null state_plan unset).
+  Json ToJson() const;
 };
 
 struct DraftAnswer {

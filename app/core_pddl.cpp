@@ -46,6 +46,11 @@ Json IssueJson(const pddl::Issue& i) {
 
 }  // namespace
 
+Json PddlImportAnswer::ToJson() const {
+  return {{"action_model", action_model}, {"state_plan", state_plan}, {"warnings", warnings},
+          {"ground_actions", ground_actions}, {"actions", actions}, {"stored", stored}};
+}
+
 std::variant<PddlImportAnswer, Error> Core::ImportPddl(const PddlImportCall& call) {
   if (call.domain.empty()) return Bad("missing the PDDL domain text", "/domain");
   pddl::ImportOptions options;

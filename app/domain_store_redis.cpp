@@ -114,8 +114,7 @@ class RedisDomainStore : public DomainStore {
 
   bool Probe() override {
     std::lock_guard<std::mutex> lock(mu_);
-    store::Reply r(conn_.Call({"SET", "ctb:probe", std::to_string(store::NowMs())}));
-    return r && r->type != REDIS_REPLY_ERROR;
+    return conn_.WriteProbe();
   }
   std::string LastError() const override {
     std::lock_guard<std::mutex> lock(mu_);

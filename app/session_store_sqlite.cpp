@@ -124,11 +124,7 @@ class SqliteStore : public SessionStore {
   std::string Describe() const override { return "sqlite:" + path_ + " (" + table_ + ")"; }
   bool Probe() override {
     std::lock_guard<std::mutex> lock(mu_);
-    Stmt up(db_, "INSERT OR REPLACE INTO ctb_probe(id, at_ms) VALUES (1, ?)");
-    if (!up.ok()) return Fail(), false;
-    up.Bind(1, NowMs());
-    if (up.Step() != SQLITE_DONE) return Fail(), false;
-    return true;
+    return store::WriteProbe(db_) || (Fail(), false);
   }
   std::string LastError() const override {
     std::lock_guard<std::mutex> lock(mu_);

@@ -63,6 +63,12 @@ class Stmt {
   sqlite3_stmt* s_ = nullptr;
 };
 
+// The heartbeat write of SessionStore::Probe and DomainStore::Probe on an SQLite connection.
+inline bool WriteProbe(sqlite3* db) {
+  Stmt up(db, "INSERT OR REPLACE INTO ctb_probe(id, at_ms) VALUES (1, ?)");
+  return up.ok() && up.Bind(1, NowMs()).Step() == SQLITE_DONE;
+}
+
 struct ReplyFree {
   void operator()(redisReply* r) const {
     if (r) freeReplyObject(r);
@@ -115,6 +121,12 @@ class RedisConn {
     if (!r) last_error_ = c_ && c_->err ? c_->errstr : "no reply from redis";
     else if (r->type == REDIS_REPLY_ERROR) last_error_ = std::string(r->str, r->len);
     return r;
+  }
+
+  // The heartbeat write of the stores' Probe() (the caller holds its mutex).
+  bool WriteProbe() {
+    Reply r(Call({"SET", "ctb:probe", std::to_string(NowMs())}));
+    return r && r->type != REDIS_REPLY_ERROR;
   }
 
   // Why the last call failed (the caller holds its mutex).

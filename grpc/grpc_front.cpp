@@ -184,9 +184,8 @@ class PlannerService final : public pb::Planner::Service {
       auto d = core_.ImportPddl({q->domain(), q->problem(), q->name(), q->store()});
       if (auto* e = std::get_if<Error>(&d)) return StatusOf(*e);
       const auto& a = std::get<app::PddlImportAnswer>(d);
-      Json out = {{"action_model", a.action_model}, {"warnings", a.warnings}, {"ground_actions", a.ground_actions},
-                  {"actions", a.actions}, {"stored", a.stored}};
-      if (!a.state_plan.is_null()) out["state_plan"] = a.state_plan;
+      Json out = a.ToJson();
+      if (out["state_plan"].is_null()) out.erase("state_plan");
       if (auto err = FromJson(out, r)) return Status(grpc::StatusCode::INTERNAL, *err);
       return Status::OK;
     });

@@ -541,10 +541,8 @@ class HttpFrontEnd::Impl {
       auto r = core_.ImportPddl(call);
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
       const auto& a = std::get<app::PddlImportAnswer>(r);
-      Json out = {{"action_model", a.action_model}, {"state_plan", a.state_plan}, {"warnings", a.warnings},
-                  {"ground_actions", a.ground_actions}, {"actions", a.actions}, {"stored", a.stored}};
       if (a.stored) s.set_header("Location", "/domains/" + a.action_model.value("name", ""));
-      SendJson(s, a.stored ? 201 : 200, out);
+      SendJson(s, a.stored ? 201 : 200, a.ToJson());
     }));
     svr_.Get(R"(/domains/([A-Za-z0-9_]+))", Wrap("/domains/{name}", [this](auto& q, auto& s) {
       const std::string expand = q.get_param_value("expand");
