@@ -128,7 +128,11 @@ class Guard {
   Guard(Opener open, std::string name, std::shared_ptr<StorageHealth> health)
       : open_(std::move(open)), name_(std::move(name)), health_(std::move(health)) {
     Open();
+    health_->Watch(name_, [this] { Probe(); });
   }
+  ~Guard() { health_->Unwatch(name_); }
+  Guard(const Guard&) = delete;
+  Guard& operator=(const Guard&) = delete;
 
   // A call that reads (a variant of a value or an Error): the Error names the store and why.
   template <class R, class F>
@@ -206,10 +210,7 @@ class Guard {
 class GuardedSessionStore : public SessionStore {
  public:
   GuardedSessionStore(SessionStoreOpener open, std::string name, std::shared_ptr<StorageHealth> h)
-      : name_(name), health_(h), g_(std::move(open), std::move(name), std::move(h)) {
-    health_->Watch(name_, [this] { g_.Probe(); });
-  }
-  ~GuardedSessionStore() override { health_->Unwatch(name_); }
+      : g_(std::move(open), std::move(name), std::move(h)) {}
 
   std::variant<std::optional<StoredSession>, Error> Get(const std::string& id) override {
     return g_.Fetch<std::variant<std::optional<StoredSession>, Error>>([&](SessionStore& s) { return s.Get(id); });
@@ -229,18 +230,13 @@ class GuardedSessionStore : public SessionStore {
   bool Probe() override { return true; }  // the guard probes the store inside
 
  private:
-  std::string name_;
-  std::shared_ptr<StorageHealth> health_;
   Guard<SessionStore> g_;
 };
 
 class GuardedDomainStore : public DomainStore {
  public:
   GuardedDomainStore(DomainStoreOpener open, std::shared_ptr<StorageHealth> h)
-      : health_(h), g_(std::move(open), "domain", std::move(h)) {
-    health_->Watch("domain", [this] { g_.Probe(); });
-  }
-  ~GuardedDomainStore() override { health_->Unwatch("domain"); }
+      : g_(std::move(open), "domain", std::move(h)) {}
 
   std::variant<std::optional<StoredDomain>, Error> Get(const std::string& name) override {
     return g_.Fetch<std::variant<std::optional<StoredDomain>, Error>>([&](DomainStore& s) { return s.Get(name); });
@@ -258,7 +254,6 @@ class GuardedDomainStore : public DomainStore {
   bool Probe() override { return true; }  // the guard probes the store inside
 
  private:
-  std::shared_ptr<StorageHealth> health_;
   Guard<DomainStore> g_;
 };
 
