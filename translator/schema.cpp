@@ -1,5 +1,7 @@
 #include "translator/schema.h"
 
+#include <set>
+
 namespace ctb {
 
 namespace {
@@ -48,24 +50,57 @@ Json StatePlanSchema(const Domain& d) {
         {"upper_bound", Bound()}}},
       {"required", {"accepting_constraint", "state_constraint", "lower_bound", "upper_bound"}},
       {"additionalProperties", false}};
-  Json temporal = {{"type", "object"},
-                   {"properties",
-                    {{"accepting_event1_constraint", Condition("the first event")},
-                     {"accepting_event2_constraint", Condition("the second event")},
-                     {"lower_bound", Bound()},
-                     {"upper_bound", Bound()}}},
-                   {"required",
-                    {"accepting_event1_constraint", "accepting_event2_constraint", "lower_bound",
-                     "upper_bound"}},
-                   {"additionalProperties", false}};
+  // A temporal constraint: two conditions in either order (the thesis'), or an order (contract
+  // section 15) naming actions as its events and/or "ordered": true.
+  Json action_name = {{"type", "string"}, {"pattern", kIdentifier}, {"description", "an action of constraints.actions"}};
+  Json temporal = {
+      {"type", "object"},
+      {"properties",
+       {{"accepting_event1_constraint", Condition("the first event")},
+        {"accepting_event2_constraint", Condition("the second event")},
+        {"event1", action_name},
+        {"event2", action_name},
+        {"ordered", {{"type", "boolean"}, {"description", "event1 no later than event2"}}},
+        {"lower_bound", Bound()},
+        {"upper_bound", {{"anyOf", {Bound(), {{"type", "null"}}}}}}}},
+      {"anyOf",
+       {{{"required", {"accepting_event1_constraint", "accepting_event2_constraint", "lower_bound",
+                       "upper_bound"}}},
+        {{"required", {"event1"}}},
+        {{"required", {"event2"}}},
+        {{"required", {"ordered"}}, {"properties", {{"ordered", {{"const", true}}}}}}}},
+      {"additionalProperties", false}};
   Json endpoint = {{"type", "string"},
-                   {"pattern", "^[A-Za-z_][A-Za-z0-9_]*\\.(start|end|event1|event2)$"}};
+                   {"pattern", "^[A-Za-z_][A-Za-z0-9_]*(\\.(start|end|event1|event2))?$"}};
+  std::set<std::string> commands, locations;
+  for (const auto& a : d.automata) {
+    commands.insert(a.commands.begin(), a.commands.end());
+    locations.insert(a.locations.begin(), a.locations.end());
+  }
+  Json action = {
+      {"type", "object"},
+      {"description", "the event at which a transition of one automaton fires"},
+      {"properties",
+       {{"automaton", {{"type", "string"}, {"enum", automata}}},
+        {"command", {{"type", "string"}, {"enum", commands}}},
+        {"from", {{"type", "string"}, {"enum", locations}}},
+        {"to", {{"type", "string"}, {"enum", locations}}},
+        {"occurrence", {{"type", "string"}, {"enum", {"first", "last", "every"}}}}}},
+      {"required", {"automaton"}},
+      {"anyOf", {{{"required", {"command"}}}, {{"required", {"from", "to"}}}}},
+      {"additionalProperties", false}};
+  Json names = {{"type", "array"}, {"items", action_name}};
+  Json sequence = names;
+  sequence["minItems"] = 2;
   Json constraints = {
       {"type", "object"},
       {"properties",
        {{"episodes", Named(episode)},
         {"temporal", Named(temporal)},
-        {"event", Named({{"type", "array"}, {"minItems", 2}, {"items", endpoint}})}}},
+        {"event", Named({{"type", "array"}, {"minItems", 2}, {"items", endpoint}})},
+        {"actions", Named(action)},
+        {"sequence", sequence},
+        {"forbidden", names}}},
       {"additionalProperties", false}};
   return {
       {"$schema", "https://json-schema.org/draft/2020-12/schema"},

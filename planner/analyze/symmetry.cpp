@@ -372,6 +372,12 @@ bool Disjoint(const std::vector<int>& xs, const std::vector<bool>& taken) {
 }  // namespace
 
 bool IsSymmetry(const Domain& d, const StatePlan& sp, const std::vector<int>& perm) {
+  // Actions name automata outside the conditions the checker compares: only the identity.
+  if (sp.HasActionRules() || !sp.actions.empty()) {
+    for (std::size_t a = 0; a < perm.size(); ++a)
+      if (perm[a] != static_cast<int>(a)) return false;
+    return perm.size() == d.automata.size();
+  }
   return Checker(d, sp).IsSymmetry(perm);
 }
 
@@ -379,6 +385,7 @@ std::vector<SymmetryOrbit> FindSymmetries(const Domain& d, const StatePlan& sp) 
   const int na = static_cast<int>(d.automata.size());
   std::vector<SymmetryOrbit> out;
   if (na < 2 || static_cast<int>(sp.initial.size()) != na) return out;
+  if (sp.HasActionRules() || !sp.actions.empty()) return out;  // as IsSymmetry
   Checker check(d, sp);
   std::vector<std::string> sig;
   for (int a = 0; a < na; ++a) sig.push_back(check.Signature(a));

@@ -32,6 +32,7 @@ std::string TimeOrderSearch(const Context& c) {
   const std::string& s = c.opts.search;
   std::string ep = c.sp.episodes.empty() ? "" : "EP_S ++ EP_E ++ ";
   std::string tc = c.sp.temporals.empty() ? "" : "TC_1 ++ TC_2 ++ ";
+  if (!c.sp.orders.empty()) tc += "O_1 ++ O_2 ++ ";
   std::string idx = s == "g_first" ? "[g] ++ " + ep + tc + "[]" : tc + ep + "[g]";
   std::string var_sel = s == "first_fail" ? "first_fail" : "input_order";
   std::string plan = "int_search(" + idx + ", " + var_sel + ", indomain_min), ";

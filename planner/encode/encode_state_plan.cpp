@@ -2,6 +2,7 @@
 // temporal constraints, shared events, the maintenance constraint and the end state.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "planner/encode/emit.h"
 
@@ -21,7 +22,130 @@ std::string Bound(double seconds, const Context& c) {
 
 bool IsTrue(const Condition& cond) { return cond.expr.op == Expr::Op::kTrue; }
 
+// The actions an order or a shared event reads as one event (AK[j]), and every action read.
+void ActionUse(const StatePlan& sp, std::vector<bool>& at_one_event, std::vector<bool>& read) {
+  at_one_event.assign(sp.actions.size(), false);
+  read.assign(sp.actions.size(), false);
+  auto end = [&](const OrderEnd& e) {
+    if (e.action < 0) return;
+    read[e.action] = true;
+    if (sp.actions[e.action].occurrence != Occurrence::kEvery) at_one_event[e.action] = true;
+  };
+  for (const auto& o : sp.orders) {
+    end(o.first);
+    end(o.second);
+  }
+  for (const SharedEvent* ev : sp.AllSharedEvents())
+    for (const auto& p : ev->endpoints)
+      if (p.kind == EndpointKind::kAction) read[p.index] = at_one_event[p.index] = true;
+  for (int j : sp.forbidden) read[j] = true;
+}
+
+// "X[a,k] in {ids}": action j's transition fires between stage k and k+1.
+std::string Fires(const Context& c, int j, const std::string& k) {
+  const ActionEvent& act = c.sp.actions[j];
+  std::string ids;
+  for (int t : act.transitions)
+    ids += (ids.empty() ? "" : ", ") + std::to_string(c.info.transitions_of[act.automaton][t]);
+  return "X[" + std::to_string(act.automaton + 1) + "," + k + "] in {" + ids + "}";
+}
+
+
 }  // namespace
+
+// Action events (contract section 15): ACT_j[k] when action j fires at event k; AK[j] its first
+// or last firing when an order or a shared event reads it as one event; forbidden actions never
+// fire after the history.
+void EmitActions(const Context& c) {
+  if (c.sp.actions.empty()) return;
+  std::vector<bool> one, read;
+  ActionUse(c.sp, one, read);
+  std::string& o = c.out;
+  o += "% action events\n";
+  o += "array[1.." + std::to_string(c.sp.actions.size()) + "] of var 0..H: AK;\n";
+  for (std::size_t j = 0; j < c.sp.actions.size(); ++j) {
+    const std::string J = std::to_string(j + 1), act = "ACT_" + J;
+    if (!read[j]) {
+      o += "constraint AK[" + J + "] = 0;\n";
+      continue;
+    }
+    o += "array[0..H] of var bool: " + act + " = array1d(0..H, [if k = 0 then false else " +
+         Fires(c, static_cast<int>(j), "k-1") + " endif | k in 0..H]);\n";
+    if (!one[j]) {
+      o += "constraint AK[" + J + "] = 0;\n";
+      continue;
+    }
+    const bool last = c.sp.actions[j].occurrence == Occurrence::kLast;
+    o += "constraint " + act + "[AK[" + J + "]] /\\ forall(k in 0..H)(k " + (last ? ">" : "<") +
+         " AK[" + J + "] -> not " + act + "[k]);\n";
+  }
+  for (int j : c.sp.forbidden)
+    o += "constraint forall(k in " + c.K0() + "..H-1)(not (" + Fires(c, j, "k") + "));\n";
+}
+
+// Orders (state_plan.h Order): O_1 and O_2 are the events of their two ends, O_B the event at
+// which the order is accepted (the end state waits for it).
+void EmitOrders(const Context& c) {
+  const int n = static_cast<int>(c.sp.orders.size());
+  if (n == 0) return;
+  std::string& o = c.out;
+  const std::string N = std::to_string(n);
+  o += "% orders\n";
+  for (const char* v : {"O_1", "O_2", "O_B"}) o += "array[1.." + N + "] of var 0..H: " + std::string(v) + ";\n";
+  for (int q = 0; q < n; ++q) {
+    const Order& ord = c.sp.orders[q];
+    const std::string Q = std::to_string(q + 1), o1 = "O_1[" + Q + "]", o2 = "O_2[" + Q + "]";
+    const std::string lb = Bound(ord.lower, c);
+    const bool every = ord.second.action >= 0 &&
+                       c.sp.actions[ord.second.action].occurrence == Occurrence::kEvery;
+    if (ord.first.action >= 0) o += "constraint " + o1 + " = AK[" + std::to_string(ord.first.action + 1) + "];\n";
+    if (ord.second.action >= 0 && !every)
+      o += "constraint " + o2 + " = AK[" + std::to_string(ord.second.action + 1) + "];\n";
+    auto within = [&](const std::string& dt) {
+      std::string s = dt + " >= " + lb;
+      if (ord.upper) s += " /\\ " + dt + " <= " + Bound(*ord.upper, c);
+      return s;
+    };
+    if (ord.ordered) {
+      const std::string after = ord.strict ? " > " : " >= ";
+      if (ord.first.action < 0) {
+        CondArray(c, "O_C1_" + Q, ord.first.condition, CondMode::kEvent);
+        o += "constraint O_C1_" + Q + "[" + o1 + "] /\\ forall(k in 0..H)(k < " + o1 + " -> not O_C1_" + Q + "[k]);\n";
+      }
+      if (every) {
+        const std::string act = "ACT_" + std::to_string(ord.second.action + 1);
+        o += "constraint forall(k in 0..H)(" + act + "[k] -> (k" + after + o1 + " /\\ " +
+             within("e[k] - e[" + o1 + "]") + "));\n";
+        o += "constraint " + o2 + " >= " + o1 + " /\\ forall(k in 0..H)(" + act + "[k] -> k <= " + o2 +
+             ") /\\ (" + o2 + " > " + o1 + " -> " + act + "[" + o2 + "]);\n";
+        o += "constraint O_B[" + Q + "] = " + o1 + ";\n";
+        continue;
+      }
+      o += "constraint " + o2 + after + o1 + " /\\ " + within("e[" + o2 + "] - e[" + o1 + "]") + ";\n";
+      if (ord.second.action < 0) {
+        const std::string c2 = "O_C2_" + Q;
+        CondArray(c, c2, ord.second.condition, CondMode::kEvent);
+        o += "constraint " + c2 + "[" + o2 + "] /\\ forall(k in 0..H)((k" + after + o1 + " /\\ k < " + o2 +
+             ") -> not (" + c2 + "[k] /\\ e[k] - e[" + o1 + "] >= " + lb + "));\n";
+      }
+      o += "constraint O_B[" + Q + "] = " + o2 + ";\n";
+      continue;
+    }
+    // Either order, at least one end an action.
+    const OrderEnd* cond = ord.first.action < 0 ? &ord.first : ord.second.action < 0 ? &ord.second : nullptr;
+    if (cond) {
+      const std::string oc = cond == &ord.first ? o1 : o2, ox = cond == &ord.first ? o2 : o1;
+      const std::string cc = "O_CC_" + Q;
+      CondArray(c, cc, cond->condition, CondMode::kEvent);
+      o += "constraint " + cc + "[" + oc + "] /\\ forall(k in 0..H)((k <= " + ox + " /\\ k < " + oc +
+           ") -> not " + cc + "[k]);\n";
+      o += "constraint forall(k in 0..H)((k > " + ox + " /\\ k < " + oc + ") -> not (" + cc +
+           "[k] /\\ e[k] - e[" + ox + "] >= " + lb + "));\n";
+    }
+    o += "constraint " + within("abs(e[" + o2 + "] - e[" + o1 + "])") + ";\n";
+    o += "constraint O_B[" + Q + "] = max(" + o1 + ", " + o2 + ");\n";
+  }
+}
 
 // Episode p starts at the first event at which its accepting condition holds (EP_S), ends at a
 // later event of the planner's choice (EP_E) no later than g, lasts within its bounds, and its
@@ -91,7 +215,7 @@ void EmitTemporals(const Context& c) {
 
 // Shared events: every endpoint of one entry falls on the same event.
 void EmitSharedEvents(const Context& c) {
-  if (c.sp.events.empty()) return;
+  if (c.sp.events.empty() && c.sp.action_events.empty()) return;
   c.out += "% shared events\n";
   auto var = [](const Endpoint& p) {
     std::string i = std::to_string(p.index + 1);
@@ -100,12 +224,15 @@ void EmitSharedEvents(const Context& c) {
       case EndpointKind::kEpisodeEnd: return "EP_E[" + i + "]";
       case EndpointKind::kEvent1: return "TC_1[" + i + "]";
       case EndpointKind::kEvent2: return "TC_2[" + i + "]";
+      case EndpointKind::kAction: return "AK[" + i + "]";
+      case EndpointKind::kOrder1: return "O_1[" + i + "]";
+      case EndpointKind::kOrder2: return "O_2[" + i + "]";
     }
     return std::string("0");
   };
-  for (const auto& ev : c.sp.events)
-    for (std::size_t k = 1; k < ev.endpoints.size(); ++k)
-      c.out += "constraint " + var(ev.endpoints[0]) + " = " + var(ev.endpoints[k]) + ";\n";
+  for (const SharedEvent* ev : c.sp.AllSharedEvents())
+    for (std::size_t k = 1; k < ev->endpoints.size(); ++k)
+      c.out += "constraint " + var(ev->endpoints[0]) + " = " + var(ev->endpoints[k]) + ";\n";
 }
 
 // The end state is accepted at g, the first event at which the goal holds and every episode and
@@ -117,6 +244,7 @@ void EmitEndState(const Context& c) {
   std::string done = "GOAL[k]";
   if (!c.sp.episodes.empty()) done += " /\\ forall(p in index_set(EP_E))(EP_E[p] <= k)";
   if (!c.sp.temporals.empty()) done += " /\\ forall(q in index_set(TC_B))(TC_B[q] <= k)";
+  if (!c.sp.orders.empty()) done += " /\\ forall(q in index_set(O_B))(O_B[q] <= k)";
   o += "array[0..H] of var bool: DONE = array1d(0..H, [" + done + " | k in 0..H]);\n";
   o += "constraint DONE[g] /\\ forall(k in 0..H)(k < g -> not DONE[k]);\n";
   if (!IsTrue(c.sp.maintenance)) {
@@ -128,6 +256,8 @@ void EmitEndState(const Context& c) {
 void EmitStatePlan(const Context& c) {
   EmitEpisodes(c);
   EmitTemporals(c);
+  EmitActions(c);
+  EmitOrders(c);
   EmitSharedEvents(c);
   EmitEndState(c);
   c.out += "\n";

@@ -77,6 +77,7 @@ std::optional<Trajectory> ExtractTrajectory(const Json& s, const Domain& d, cons
   };
   if (!pairs("EP_S", "EP_E", sp.episodes.size(), t.episodes)) return missing("EP_S/EP_E");
   if (!pairs("TC_1", "TC_2", sp.temporals.size(), t.temporals)) return missing("TC_1/TC_2");
+  if (!pairs("O_1", "O_2", sp.orders.size(), t.orders)) return missing("O_1/O_2");
   return t;
 }
 

@@ -38,6 +38,10 @@ std::vector<std::string> Tokens(const std::string& pointer) {
 // Drops one part from a state plan's JSON (see explain.h). False when the pointer names none.
 bool DropPart(Json& j, const std::string& pointer) {
   auto t = Tokens(pointer);
+  if (t.size() == 2 && t[0] == "constraints" && (t[1] == "sequence" || t[1] == "forbidden")) {
+    j["constraints"].erase(t[1]);
+    return true;
+  }
   if (t.size() == 2 && t[0] == "end_state" &&
       (t[1] == "goal_constraint" || t[1] == "maintenance_constraint")) {
     j["end_state"][t[1]] = "true";
@@ -81,6 +85,7 @@ bool SetBound(Json& j, const std::string& pointer, double value) {
 
 std::string PartName(const std::string& pointer) {
   auto t = Tokens(pointer);
+  if (t.size() == 2 && t[0] == "constraints") return t[1] == "sequence" ? "the sequence" : "the forbidden actions";
   if (t.size() == 2) return t[1] == "goal_constraint" ? "the goal" : "the maintenance constraint";
   if (t.size() == 3) {
     if (t[1] == "episodes") return "episode " + t[2];
@@ -112,7 +117,11 @@ class Explainer {
     if (sp.maintenance.expr.op != Expr::Op::kTrue) parts_.push_back(sp.maintenance.pointer);
     for (const auto& e : sp.episodes) parts_.push_back("/constraints/episodes/" + e.name);
     for (const auto& t : sp.temporals) parts_.push_back("/constraints/temporal/" + t.name);
-    for (const auto& e : sp.events) parts_.push_back("/constraints/event/" + e.name);
+    for (const auto& o : sp.orders)
+      if (!o.name.empty()) parts_.push_back("/constraints/temporal/" + o.name);
+    if (!sp.sequence.empty()) parts_.push_back("/constraints/sequence");
+    if (!sp.forbidden.empty()) parts_.push_back("/constraints/forbidden");
+    for (const SharedEvent* e : sp.AllSharedEvents()) parts_.push_back("/constraints/event/" + e->name);
   }
 
   // Static analysis of a plan, unless the caller turned it off (then every proof is a solver's).
@@ -144,7 +153,9 @@ class Explainer {
     }
     // The parts left undecided need proofs. Static analysis could not explain: a minimised
     // unsatisfiable core from z3 (which may also leave parts undecided), then the filter.
-    const bool from_core = !from_static && filter && Undecided(set) && CoreFromZ3(set, proven);
+    // z3 does not read actions (contract section 15): no core from it then.
+    const bool from_core = !from_static && filter && Undecided(set) && !sp_.HasActionRules() &&
+                           CoreFromZ3(set, proven);
     // Deletion filter: drop each part that the rest can do without.
     if (!from_core && filter) {
       for (const std::string& p : std::vector<std::string>(set)) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <vector>
 
 #include "planner/expr/expr_print.h"
@@ -145,6 +146,58 @@ std::string EventWords(const Domain& d, const StatePlan& sp, const Condition& c,
   return Words(d, sp, c.raw_info.IsChange(), self).Of(c.raw);
 }
 
+// "robot1 takes openDoor1 (from hall to door1)", with the occurrence.
+std::string ActionWords(const Domain& d, const StatePlan& sp, int j, bool with_occurrence = true) {
+  const ActionEvent& a = sp.actions[j];
+  const Automaton& au = d.automata[a.automaton];
+  std::string s = au.name;
+  if (!a.command.empty()) s += " takes command " + a.command;
+  else s += " goes from " + a.from + " to " + a.to;
+  if (!a.command.empty() && !a.from.empty()) s += " from " + a.from;
+  if (!a.command.empty() && !a.to.empty()) s += " to " + a.to;
+  if (with_occurrence) {
+    if (a.occurrence == Occurrence::kFirst) s += " (the first time)";
+    if (a.occurrence == Occurrence::kLast) s += " (the last time)";
+  }
+  return s + " [action " + a.name + "]";
+}
+
+std::string EndWords(const Domain& d, const StatePlan& sp, const OrderEnd& e) {
+  if (e.action < 0) return "the moment " + Words(d, sp, e.condition.raw_info.IsChange()).Of(e.condition.raw);
+  if (sp.actions[e.action].occurrence == Occurrence::kEvery)
+    return "every time " + ActionWords(d, sp, e.action, false);
+  return "the moment " + ActionWords(d, sp, e.action);
+}
+
+std::string OrderWords(const Domain& d, const StatePlan& sp, const Order& o) {
+  const double upper = o.upper.value_or(kNoUpper);
+  const std::string gap = o.lower == 0 && !o.upper ? "" : ", " + BoundWords(o.lower, upper) + " later";
+  if (o.ordered)
+    return "First " + EndWords(d, sp, o.first) + "; then, no earlier, " + EndWords(d, sp, o.second) + gap +
+           " (temporal constraint " + o.name + ").";
+  return Capitalize(BoundWords(o.lower, upper)) + " between " + EndWords(d, sp, o.first) + " and " +
+         EndWords(d, sp, o.second) + ", in either order (temporal constraint " + o.name + ").";
+}
+
+// The action parts of a state plan in words (contract section 15).
+void SummarizeActions(const Domain& d, const StatePlan& sp,
+                      const std::function<void(const std::string&, const std::string&)>& add) {
+  for (const auto& o : sp.orders)
+    if (!o.name.empty()) add("/constraints/temporal/" + PointerToken(o.name), OrderWords(d, sp, o));
+  if (!sp.sequence.empty()) {
+    std::vector<std::string> steps;
+    for (int j : sp.sequence) steps.push_back(ActionWords(d, sp, j));
+    std::string text = "In this order, each at a later event than the one before: ";
+    for (std::size_t k = 0; k < steps.size(); ++k) text += (k ? ", then " : "") + steps[k];
+    add("/constraints/sequence", text + ".");
+  }
+  if (!sp.forbidden.empty()) {
+    std::vector<std::string> never;
+    for (int j : sp.forbidden) never.push_back(ActionWords(d, sp, j, false));
+    add("/constraints/forbidden", "Never: " + JoinAnd(never) + ".");
+  }
+}
+
 }  // namespace
 
 std::string SecondsText(double v) {
@@ -210,7 +263,10 @@ Json SummarizeStatePlan(const Domain& d, const StatePlan& sp) {
             " (temporal constraint " + tc.name + ").");
   }
 
-  for (const auto& ev : sp.events) {
+  SummarizeActions(d, sp, add);
+
+  for (const SharedEvent* evp : sp.AllSharedEvents()) {
+    const SharedEvent& ev = *evp;
     std::vector<std::string> ends;
     for (const auto& p : ev.endpoints) {
       switch (p.kind) {
@@ -229,6 +285,17 @@ Json SummarizeStatePlan(const Domain& d, const StatePlan& sp) {
           ends.push_back("the moment " +
                          EventWords(d, sp, sp.temporals[p.index].event2, p.index) +
                          " (second event of " + sp.temporals[p.index].name + ")");
+          break;
+        case EndpointKind::kAction:
+          ends.push_back("the moment " + ActionWords(d, sp, p.index));
+          break;
+        case EndpointKind::kOrder1:
+          ends.push_back(EndWords(d, sp, sp.orders[p.index].first) + " (first event of " +
+                         sp.orders[p.index].name + ")");
+          break;
+        case EndpointKind::kOrder2:
+          ends.push_back(EndWords(d, sp, sp.orders[p.index].second) + " (second event of " +
+                         sp.orders[p.index].name + ")");
           break;
       }
     }

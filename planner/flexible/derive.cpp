@@ -329,6 +329,7 @@ class Deriver {
     }
     for (std::size_t p = 0; p < sp_.episodes.size(); ++p) EpisodeLinks(p, ep_reads[p]);
     for (std::size_t q = 0; q < sp_.temporals.size(); ++q) TemporalLinks(q, tc_reads[q]);
+    for (std::size_t q = 0; q < sp_.orders.size(); ++q) OrderLinks(q);
     SharedEvents();
     Goal();
     Observer m;
@@ -366,10 +367,93 @@ class Deriver {
     condition_observers_.push_back(o);
   }
 
+  // What an order's end reads: its action's automaton, or its condition's reads.
+  std::set<int> EndReads(const OrderEnd& e) const {
+    std::set<int> reads;
+    if (e.action >= 0) reads.insert(sp_.actions[e.action].automaton);
+    else AddReads(e.condition, reads);
+    return reads;
+  }
+
+  // The points at which action j fires.
+  std::vector<int> Firings(int j) const {
+    const ActionEvent& act = sp_.actions[j];
+    std::vector<int> out;
+    for (int p = 1; p < static_cast<int>(f_.point_event.size()); ++p)
+      if (f_.point_automaton[p] == act.automaton &&
+          std::find(act.transitions.begin(), act.transitions.end(), f_.point_transition[p]) !=
+              act.transitions.end())
+        out.push_back(p);
+    return out;
+  }
+
+  // An order (contract section 15): its two ends keep their event order (or their one event)
+  // and the time between them stays within its bounds; `every`: each firing after the first end.
+  void OrderLinks(std::size_t q) {
+    const ::ctb::Order& ord = sp_.orders[q];
+    const std::string why = ord.pointer;
+    auto [k1, k2] = t_.orders[q];
+    std::set<int> r1 = EndReads(ord.first), r2 = EndReads(ord.second);
+    const int p1 = PointAt(k1, r1);
+    const bool every = ord.second.action >= 0 &&
+                       sp_.actions[ord.second.action].occurrence == Occurrence::kEvery;
+    const Ticks lb = MsOf(ord.lower);
+    const std::optional<Ticks> ub = ord.upper ? std::optional(MsOf(*ord.upper)) : std::nullopt;
+    Observer o;
+    o.automata = r1;
+    o.automata.insert(r2.begin(), r2.end());
+    o.why = why;
+    auto pair = [&](int a, int b, int ka, int kb) {
+      if (a < 0 || b < 0) return;
+      if (ka == kb) {
+        Tie(a, b, why);
+        if (a == b && a > 0) AddLink(0, a, 0, std::nullopt, false, why);  // keeps the pointer
+      } else if (ka < kb) {
+        Order(a, b, why);
+        AddLink(a, b, lb, ub, false, why);
+      } else {
+        Order(b, a, why);
+        AddLink(b, a, lb, ub, false, why);
+      }
+    };
+    int p2 = p1;
+    if (every) {
+      for (int p : Firings(ord.second.action)) {
+        pair(p1, p, k1, f_.point_event[p]);
+        o.points.push_back(p);
+        if (f_.point_event[p] == k2) p2 = p;
+      }
+      if (o.points.empty() && p1 > 0) AddLink(0, p1, 0, std::nullopt, false, why);
+    } else {
+      p2 = PointAt(k2, r2);
+      pair(p1, p2, k1, k2);
+    }
+    f_.order_points.emplace_back(p1, p2);
+    o.points.insert(o.points.begin(), p1);
+    if (!every) o.points.push_back(p2);
+    condition_observers_.push_back(o);
+  }
+
   void SharedEvents() {
-    for (const auto& ev : sp_.events) {
+    for (const SharedEvent* evp : sp_.AllSharedEvents()) {
+      const SharedEvent& ev = *evp;
       std::vector<int> pts;
       for (const auto& e : ev.endpoints) {
+        if (e.kind == EndpointKind::kAction) {
+          int k = -1;  // the action's one event, as the verifier finds it
+          for (int p : Firings(e.index)) {
+            const int pe = f_.point_event[p];
+            const bool last = sp_.actions[e.index].occurrence == Occurrence::kLast;
+            if (k < 0 || (last ? pe > f_.point_event[k] : pe < f_.point_event[k])) k = p;
+          }
+          pts.push_back(k);
+          continue;
+        }
+        if (e.kind == EndpointKind::kOrder1 || e.kind == EndpointKind::kOrder2) {
+          const auto& pr = f_.order_points[e.index];
+          pts.push_back(e.kind == EndpointKind::kOrder1 ? pr.first : pr.second);
+          continue;
+        }
         const auto& pr = e.kind == EndpointKind::kEpisodeStart || e.kind == EndpointKind::kEpisodeEnd
                              ? f_.episode_points[e.index]
                              : f_.temporal_points[e.index];
@@ -402,6 +486,9 @@ class Deriver {
     for (const auto& [s, e] : f_.episode_points)
       if (e > 0) o.points.push_back(e);
     for (const auto& [p1, p2] : f_.temporal_points)
+      for (int p : {p1, p2})
+        if (p > 0) o.points.push_back(p);
+    for (const auto& [p1, p2] : f_.order_points)
       for (int p : {p1, p2})
         if (p > 0) o.points.push_back(p);
     o.points.push_back(f_.goal_point);

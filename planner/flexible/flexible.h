@@ -50,6 +50,7 @@ struct FlexiblePlan {
   // The points that mark the state plan's events (0: the origin, event 0).
   std::vector<std::pair<int, int>> episode_points;   // (start, end) per episode
   std::vector<std::pair<int, int>> temporal_points;  // (event1, event2) per temporal constraint
+  std::vector<std::pair<int, int>> order_points;     // (event1, event2) per order
   int goal_point = 0;
   bool rigid = false;  // the fallback above was taken
   long tps = 1;        // the domain's ticks per second

@@ -172,6 +172,7 @@ class Rebuild {
     }
     for (const auto& [s, e] : f_.episode_points) t.episodes.emplace_back(event_of(s), event_of(e));
     for (const auto& [a, b] : f_.temporal_points) t.temporals.emplace_back(event_of(a), event_of(b));
+    for (const auto& [a, b] : f_.order_points) t.orders.emplace_back(event_of(a), event_of(b));
     t.goal_event = g;
     t.horizon = std::max(plan_.horizon, g);
     return t;

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include "planner/model/state_plan_actions.h"
+
 namespace ctb {
 
 const char* ObjectiveName(Objective o) {
@@ -148,13 +150,18 @@ std::optional<StatePlan> LoadStatePlan(const Json& j, const Domain& d, Diagnosti
 
   // Names of the accepting automata, for the scope of every condition.
   Scope scope{&d, {}, {}};
+  std::vector<std::string> order_names;
   const Json* constraints = r.Get("constraints");
   std::optional<ObjectReader> cr;
   if (constraints) {
     cr.emplace(*constraints, "/constraints", diags);
-    cr->CheckKeys({"episodes", "temporal", "event"});
+    cr->CheckKeys({"episodes", "temporal", "event", "actions", "sequence", "forbidden"});
     scope.episodes = GroupNames(cr->Get("episodes"), "/constraints/episodes", diags);
-    scope.temporals = GroupNames(cr->Get("temporal"), "/constraints/temporal", diags);
+    // Orders (contract section 15) are not accepting automata a condition can read.
+    for (auto& name : GroupNames(cr->Get("temporal"), "/constraints/temporal", diags))
+      (actions::IsOrderEntry((*cr->Get("temporal"))[name]) ? order_names : scope.temporals)
+          .push_back(name);
+    if (const Json* acts = cr->Get("actions")) actions::ReadActions(*acts, d, sp.initial, sp, diags);
   }
 
   // end_state
@@ -204,7 +211,15 @@ std::optional<StatePlan> LoadStatePlan(const Json& j, const Domain& d, Diagnosti
         tc.event2 = std::move(*e2);
         sp.temporals.push_back(std::move(tc));
       }
+      for (const auto& name : order_names) {
+        auto read = [&](const ObjectReader& rr, const std::string& key) {
+          return ReadCondition(rr, key, true, nullptr, scope, diags, names);
+        };
+        actions::ReadOrder(name, (*tcs)[name], d, sp, read, diags);
+      }
     }
+    if (const Json* seq = cr->Get("sequence")) actions::ReadSequence(*seq, sp, diags);
+    if (const Json* fb = cr->Get("forbidden")) actions::ReadForbidden(*fb, sp, diags);
     if (const Json* evs = cr->Get("event")) {
       if (!evs->is_object()) {
         diags.Error("/constraints/event", std::string("expected an object, got ") + JsonTypeName(*evs));
@@ -237,20 +252,26 @@ std::optional<StatePlan> LoadStatePlan(const Json& j, const Domain& d, Diagnosti
             };
             int e = find(scope.episodes), t = find(scope.temporals);
             Endpoint endpoint{EndpointKind::kEpisodeStart, -1, text};
-            if (e >= 0 && (part == "start" || part == "end")) {
+            if (actions::ResolveActionEndpoint(text, sp, ep, endpoint, diags)) {
+              ok = ok && endpoint.index >= 0;
+            } else if (e >= 0 && (part == "start" || part == "end")) {
               endpoint = {part == "start" ? EndpointKind::kEpisodeStart : EndpointKind::kEpisodeEnd,
                           e, text};
             } else if (t >= 0 && (part == "event1" || part == "event2")) {
               endpoint = {part == "event1" ? EndpointKind::kEvent1 : EndpointKind::kEvent2, t, text};
             } else {
               diags.Error(ep, "unknown endpoint '" + text + "': expected <episode>.start, "
-                              "<episode>.end, <temporal>.event1 or <temporal>.event2");
+                              "<episode>.end, <temporal>.event1, <temporal>.event2 or <action>");
               ok = false;
               continue;
             }
             ev.endpoints.push_back(endpoint);
           }
-          if (ok) sp.events.push_back(std::move(ev));
+          bool actions = false;
+          for (const auto& x : ev.endpoints)
+            actions = actions || x.kind == EndpointKind::kAction || x.kind == EndpointKind::kOrder1 ||
+                      x.kind == EndpointKind::kOrder2;
+          if (ok) (actions ? sp.action_events : sp.events).push_back(std::move(ev));
         }
       }
     }
@@ -280,15 +301,17 @@ Json StatePlanToJson(const StatePlan& sp, const Domain& d) {
     tcs[t.name] = {{"accepting_event1_constraint", t.event1.text},
                    {"accepting_event2_constraint", t.event2.text},
                    {"lower_bound", t.lower}, {"upper_bound", t.upper}};
-  for (const auto& ev : sp.events) {
+  for (const SharedEvent* ev : sp.AllSharedEvents()) {
     Json list = Json::array();
-    for (const auto& p : ev.endpoints) list.push_back(p.text);
-    evs[ev.name] = list;
+    for (const auto& p : ev->endpoints) list.push_back(p.text);
+    evs[ev->name] = list;
   }
+  Json constraints = {{"episodes", eps}, {"temporal", tcs}, {"event", evs}};
+  actions::ActionsToJson(sp, d, constraints);
   return {{"initial_state", init},
           {"end_state", {{"maintenance_constraint", sp.maintenance.text},
                          {"goal_constraint", sp.goal.text}}},
-          {"constraints", {{"episodes", eps}, {"temporal", tcs}, {"event", evs}}},
+          {"constraints", constraints},
           {"objective", ObjectiveName(sp.objective)}};
 }
 

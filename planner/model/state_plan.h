@@ -41,11 +41,51 @@ struct Temporal {
   double lower = 0, upper = 0;
 };
 
-enum class EndpointKind { kEpisodeStart, kEpisodeEnd, kEvent1, kEvent2 };
+// Action events (contract section 15): the event at which a transition of one automaton fires.
+enum class Occurrence { kFirst, kLast, kEvery };
+const char* OccurrenceName(Occurrence o);
+
+struct ActionEvent {
+  std::string name;
+  int automaton = -1;
+  std::vector<int> transitions;  // indices within the automaton; firing any of them counts
+  Occurrence occurrence = Occurrence::kFirst;
+  std::string command;           // as written ("" when given by from/to only)
+  std::string from, to;          // as written ("" when not given)
+  std::string pointer;           // /constraints/actions/<name>
+};
+
+// One end of an order: an action event, or (action < 0) an accepting condition.
+struct OrderEnd {
+  int action = -1;  // index into actions
+  Condition condition;
+};
+
+// A temporal constraint that names an action or is `ordered`, or a step of `sequence`
+// (contract section 15). Kept apart from the thesis' temporal constraints, whose either-order
+// semantics every analysis reads; an analysis that ignores these only relaxes the problem.
+// Events (deterministic, so the encoder and the verifier agree on them):
+//  - an action end: its first / last firing; `every`: only as `second` of an ordered one;
+//  - a condition as `first` of an ordered one: the first event at which it holds;
+//  - a condition as `second`: the earliest event at or after the other end (after it, when
+//    strict) at which it holds and the lower bound has passed;
+//  - either order (`ordered` false, at least one action end): a condition end is the first
+//    event it holds when that is not after the action's event, else as a `second` above.
+struct Order {
+  std::string name;     // the temporal constraint's name; "" for a sequence step
+  OrderEnd first, second;
+  bool ordered = true;  // false: either order
+  bool strict = false;  // sequence: `second` at a later event than `first`
+  double lower = 0;
+  std::optional<double> upper;  // nullopt: unbounded
+  std::string pointer;  // /constraints/temporal/<name> or /constraints/sequence/<k>
+};
+
+enum class EndpointKind { kEpisodeStart, kEpisodeEnd, kEvent1, kEvent2, kAction, kOrder1, kOrder2 };
 
 struct Endpoint {
   EndpointKind kind;
-  int index;         // into episodes or temporals
+  int index;         // into episodes, temporals, actions or orders
   std::string text;  // as written, e.g. "ProjectorOn.end"
 };
 
@@ -61,7 +101,20 @@ struct StatePlan {
   std::vector<Episode> episodes;
   std::vector<Temporal> temporals;
   std::vector<SharedEvent> events;
+  // Shared events with an action's or an order's endpoint (contract section 15): apart from
+  // `events`, which every analysis reads, so that ignoring them relaxes the problem.
+  std::vector<SharedEvent> action_events;
+  std::vector<ActionEvent> actions;
+  std::vector<Order> orders;
+  std::vector<int> sequence;   // indices into actions, as written (its steps are in orders)
+  std::vector<int> forbidden;  // indices into actions: none of their transitions may fire
   Objective objective = Objective::kCost;
+
+  // True when the state plan orders or forbids actions (the engines that do not read these
+  // decline: the first-plan engine, z3, the split into parts, symmetry breaking).
+  bool HasActionRules() const { return !orders.empty() || !forbidden.empty() || !action_events.empty(); }
+  // Both lists of shared events, `events` first.
+  std::vector<const SharedEvent*> AllSharedEvents() const;
 };
 
 // Loads and checks a state plan against d. Errors (with pointers and offsets) and warnings (a

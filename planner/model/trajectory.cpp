@@ -83,6 +83,14 @@ Json TrajectoryToJson(const Trajectory& t, const Domain& d, const StatePlan& sp,
                                  {"event2", Time(t.events[t.temporals[q].second], tps)},
                                  {"event1_event", t.temporals[q].first},
                                  {"event2_event", t.temporals[q].second}};
+  // Named orders (contract section 15) as temporal constraints; sequence steps have no name.
+  for (std::size_t q = 0; q < sp.orders.size() && q < t.orders.size(); ++q) {
+    if (sp.orders[q].name.empty()) continue;
+    auto [k1, k2] = t.orders[q];
+    if (k1 < 0 || k2 < 0 || k1 > g || k2 > g) continue;
+    tcs[sp.orders[q].name] = {{"event1", Time(t.events[k1], tps)}, {"event2", Time(t.events[k2], tps)},
+                              {"event1_event", k1}, {"event2_event", k2}};
+  }
   out["episodes"] = eps;
   out["temporal"] = tcs;
   return out;

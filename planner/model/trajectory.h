@@ -52,6 +52,9 @@ struct Trajectory {
   std::vector<FiredTransition> fired;       // in event order
   std::vector<std::pair<int, int>> episodes;   // (start event, end event) per episode
   std::vector<std::pair<int, int>> temporals;  // (event1, event2) per temporal constraint
+  // (event1, event2) per order (state_plan.h Order); for `every`, event2 is its last firing
+  // (event1 when none).
+  std::vector<std::pair<int, int>> orders;
   int goal_event = 0;
   int horizon = 0;  // the model's H
   // Set when the run begins with a fixed history (replanning); null otherwise.

@@ -62,6 +62,7 @@ Expander::Expander(const Domain& d, const StatePlan& sp, long ticks_per_second)
   // Ends of episodes and second events are chosen greedily (as soon as they may), which cannot
   // make endpoints meet on one event.
   if (declined_.empty() && !sp.events.empty()) declined_ = "the state plan has shared events";
+  if (declined_.empty() && sp.HasActionRules()) declined_ = "the state plan orders or forbids actions";
 }
 
 long Expander::Ticks(double seconds) const {

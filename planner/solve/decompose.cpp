@@ -72,6 +72,8 @@ Condition TrueCondition(const std::string& pointer) {
 
 std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
   if (sp.maintenance.expr.op != Expr::Op::kTrue) return {};
+  // Actions ordered or forbidden (contract section 15) are solved as one model.
+  if (sp.HasActionRules()) return {};
   // Splitting a change condition's conjuncts would turn each into a state condition.
   if (sp.goal.info.IsChange()) return {};
   const int na = static_cast<int>(d.automata.size());

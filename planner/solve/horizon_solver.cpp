@@ -147,15 +147,17 @@ class Solver {
     SolverBackend* backend;
   };
 
-  // A search that names an engine: it alone; "portfolio" (and z3 with a history, which z3
-  // cannot take): the first `portfolio` members of the table, z3 left out with a history.
+  // A search that names an engine: it alone; "portfolio" (and z3 where it cannot take the
+  // problem: a history, or actions ordered or forbidden): the first `portfolio` members of the
+  // table, z3 left out where it cannot take the problem.
   std::vector<Member> Members() const {
     SolverBackend& gecode = Backend();
     const Engine* alone = FindEngine(o_.search);
-    if (alone && !(alone->z3 && o_.history)) return {{alone, &BackendOf(*alone, gecode)}};
+    const bool no_z3 = o_.history || sp_.HasActionRules();
+    if (alone && !(alone->z3 && no_z3)) return {{alone, &BackendOf(*alone, gecode)}};
     std::vector<Member> all;
     for (const auto& e : Engines())
-      if (e.in_portfolio && !(e.z3 && o_.history)) all.push_back({&e, &BackendOf(e, gecode)});
+      if (e.in_portfolio && !(e.z3 && no_z3)) all.push_back({&e, &BackendOf(e, gecode)});
     all.resize(std::min<std::size_t>(all.size(), std::max(1, o_.portfolio)));
     return all;
   }

@@ -44,7 +44,8 @@ class Replay {
         Fail("timeline of '" + Name(a) + "' does not cover stages 0.." + std::to_string(g_));
         return false;
       }
-    if (t_.episodes.size() != sp_.episodes.size() || t_.temporals.size() != sp_.temporals.size()) {
+    if (t_.episodes.size() != sp_.episodes.size() || t_.temporals.size() != sp_.temporals.size() ||
+        t_.orders.size() != sp_.orders.size()) {
       Fail("episode or temporal constraint events missing");
       return false;
     }
@@ -267,8 +268,10 @@ class Replay {
       long dt = std::labs(t_.events[k2] - t_.events[k1]);
       if (dt < Ticks(tc.lower) || dt > Ticks(tc.upper)) Fail(name + ": time between its events is outside its bounds");
     }
+    ActionRules();
     // Shared events.
-    for (const auto& ev : sp_.events) {
+    for (const SharedEvent* evp : sp_.AllSharedEvents()) {
+      const SharedEvent& ev = *evp;
       std::vector<int> at;
       for (const auto& p : ev.endpoints) {
         switch (p.kind) {
@@ -276,6 +279,9 @@ class Replay {
           case EndpointKind::kEpisodeEnd: at.push_back(t_.episodes[p.index].second); break;
           case EndpointKind::kEvent1: at.push_back(t_.temporals[p.index].first); break;
           case EndpointKind::kEvent2: at.push_back(t_.temporals[p.index].second); break;
+          case EndpointKind::kAction: at.push_back(OneEvent(p.index)); break;
+          case EndpointKind::kOrder1: at.push_back(t_.orders[p.index].first); break;
+          case EndpointKind::kOrder2: at.push_back(t_.orders[p.index].second); break;
         }
       }
       if (std::adjacent_find(at.begin(), at.end(), std::not_equal_to<>()) != at.end())
@@ -288,6 +294,8 @@ class Replay {
         if (e > k) return false;
       for (const auto& [a, b] : t_.temporals)
         if (std::max(a, b) > k) return false;
+      for (int b : order_accepted_)
+        if (b > k) return false;
       return true;
     };
     if (!done(g_)) Fail("the end state is not accepted at the goal event");
@@ -300,12 +308,115 @@ class Replay {
       if (!OnStage(sp_.maintenance, k)) Fail("maintenance constraint fails on stage " + std::to_string(k));
   }
 
+  // Action events (contract section 15): the events at which each action fires, its one event
+  // (first or last firing, -1 when none), forbidden actions, and the orders' events.
+  void ActionRules() {
+    firings_.assign(sp_.actions.size(), {});
+    for (const auto& f : t_.fired)
+      for (std::size_t j = 0; j < sp_.actions.size(); ++j) {
+        const ActionEvent& act = sp_.actions[j];
+        if (act.automaton == f.automaton &&
+            std::find(act.transitions.begin(), act.transitions.end(), f.transition) != act.transitions.end())
+          firings_[j].push_back(f.event);
+      }
+    for (auto& v : firings_) std::sort(v.begin(), v.end());
+    const int p = t_.history ? t_.history->events() : 0;
+    for (int j : sp_.forbidden)
+      for (int k : firings_[j])
+        if (k > p) Fail("forbidden action '" + sp_.actions[j].name + "' happens at event " + std::to_string(k));
+    order_accepted_.assign(sp_.orders.size(), 0);
+    for (std::size_t q = 0; q < sp_.orders.size(); ++q) order_accepted_[q] = CheckOrder(q);
+  }
+
+  int OneEvent(int j) const {
+    const auto& v = firings_[j];
+    if (v.empty()) return -1;
+    return sp_.actions[j].occurrence == Occurrence::kLast ? v.back() : v.front();
+  }
+
+  int FirstHolding(const Condition& c, int from, bool lower_passed_from_ref, int ref, long lower) const {
+    for (int k = std::max(from, 0); k <= g_; ++k)
+      if (AtEvent(c, k) && (!lower_passed_from_ref || t_.events[k] - t_.events[ref] >= lower)) return k;
+    return -1;
+  }
+
+  // Checks order q; returns the event at which it is accepted (beyond g when it is not).
+  int CheckOrder(std::size_t q) {
+    const Order& o = sp_.orders[q];
+    const std::string name = o.name.empty() ? "sequence step " + o.pointer : "temporal constraint '" + o.name + "'";
+    const int never = g_ + 1;
+    const long lower = Ticks(o.lower);
+    auto within = [&](long dt) { return dt >= lower && (!o.upper || dt <= Ticks(*o.upper)); };
+    auto action_event = [&](const OrderEnd& e) {
+      int k = OneEvent(e.action);
+      if (k < 0) Fail(name + ": action '" + sp_.actions[e.action].name + "' never happens");
+      return k;
+    };
+    auto every = [&](const OrderEnd& e) {
+      return e.action >= 0 && sp_.actions[e.action].occurrence == Occurrence::kEvery;
+    };
+    int e1 = -1, e2 = -1;
+    if (o.ordered) {
+      e1 = o.first.action >= 0 ? action_event(o.first) : FirstHolding(o.first.condition, 0, false, 0, 0);
+      if (e1 < 0) {
+        if (o.first.action < 0) Fail(name + ": its first event's condition never holds");
+        return never;
+      }
+      const int from = o.strict ? e1 + 1 : e1;
+      if (every(o.second)) {
+        e2 = e1;
+        for (int k : firings_[o.second.action]) {
+          if (k < from) Fail(name + ": '" + sp_.actions[o.second.action].name + "' happens at event " +
+                             std::to_string(k) + ", before its first event");
+          else if (!within(t_.events[k] - t_.events[e1]))
+            Fail(name + ": '" + sp_.actions[o.second.action].name + "' at event " + std::to_string(k) +
+                 " is outside its bounds");
+          e2 = std::max(e2, k);
+        }
+      } else {
+        e2 = o.second.action >= 0 ? action_event(o.second)
+                                  : FirstHolding(o.second.condition, from, true, e1, lower);
+        if (e2 < 0) {
+          if (o.second.action < 0) Fail(name + ": its second event's condition does not hold after the first in time");
+          return never;
+        }
+        if (e2 < from) Fail(name + ": its second event (" + std::to_string(e2) + ") is not after its first (" + std::to_string(e1) + ")");
+        else if (!within(t_.events[e2] - t_.events[e1])) Fail(name + ": time between its events is outside its bounds");
+      }
+    } else {
+      const bool first_is_action = o.first.action >= 0;
+      const OrderEnd& act = first_is_action ? o.first : o.second;
+      const OrderEnd& other = first_is_action ? o.second : o.first;
+      const int x = action_event(act);
+      if (x < 0) return never;
+      int y = -1;
+      if (other.action >= 0) {
+        y = action_event(other);
+      } else {
+        y = FirstHolding(other.condition, 0, false, 0, 0);
+        if (y < 0 || y > x) y = FirstHolding(other.condition, x + 1, true, x, lower);
+        if (y < 0) Fail(name + ": its condition does not hold in time");
+      }
+      if (y < 0) return never;
+      (first_is_action ? e1 : e2) = x;
+      (first_is_action ? e2 : e1) = y;
+      if (!within(std::labs(t_.events[e2] - t_.events[e1]))) Fail(name + ": time between its events is outside its bounds");
+    }
+    if (t_.orders[q] != std::make_pair(e1, e2))
+      Fail(name + ": reported at events (" + std::to_string(t_.orders[q].first) + ", " +
+           std::to_string(t_.orders[q].second) + "), but its events are (" + std::to_string(e1) + ", " +
+           std::to_string(e2) + ")");
+    return every(o.second) ? e1 : std::max(e1, e2);
+  }
+
   const Trajectory& t_;
   const Domain& d_;
   const StatePlan& sp_;
   long tps_;
   int g_;
   std::vector<std::string> errors_;
+  std::vector<std::vector<int>> firings_;  // per action: the events it fires at, ascending
+  std::vector<int> order_accepted_;        // per order: the event it is accepted at
 
  public:
   bool allow_idle_ = false;

@@ -125,12 +125,13 @@ class Enumerator {
   // Every placement of the episodes' and temporal constraints' events.
   void Placements(Trajectory& t, std::size_t i) {
     const int g = t.goal_event;
-    const std::size_t ne = sp_.episodes.size(), nq = sp_.temporals.size();
+    const std::size_t ne = sp_.episodes.size(), nq = sp_.temporals.size(), no = sp_.orders.size();
     if (i == 0) {
       t.episodes.assign(ne, {0, 0});
       t.temporals.assign(nq, {0, 0});
+      t.orders.assign(no, {0, 0});
     }
-    if (i == ne + nq) {
+    if (i == ne + nq + no) {
       Check(t);
       return;
     }
@@ -139,8 +140,10 @@ class Enumerator {
         if (i < ne) {
           if (y <= x) continue;
           t.episodes[i] = {x, y};
-        } else {
+        } else if (i < ne + nq) {
           t.temporals[i - ne] = {x, y};
+        } else {
+          t.orders[i - ne - nq] = {x, y};
         }
         Placements(t, i + 1);
       }
@@ -224,11 +227,12 @@ Truth CompareWithTruth(const testing::RandomProblem& p, unsigned seed) {
   auto sp = d ? LoadStatePlan(p.state_plan, *d, diags) : std::nullopt;
   EXPECT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
   if (!sp) return Truth::kSkipped;
-  if (sp->episodes.size() + sp->temporals.size() > 2) return Truth::kSkipped;  // keep it small
+  if (sp->episodes.size() + sp->temporals.size() + sp->orders.size() > 2) return Truth::kSkipped;  // keep it small
   // The latest time an optimal plan with 3 events needs (docs/encoding.md), plus slack.
   long lower_sum = 0, max_lo = 0;
   for (const auto& e : sp->episodes) lower_sum += static_cast<long>(e.lower);
   for (const auto& q : sp->temporals) lower_sum += static_cast<long>(q.lower);
+  for (const auto& q : sp->orders) lower_sum += static_cast<long>(q.lower);
   for (const auto& a : d->automata)
     for (const auto& t : a.transitions) max_lo = std::max(max_lo, static_cast<long>(t.duration.lo));
   const long time_bound = lower_sum + kMaxEvents * max_lo + 1;
@@ -278,6 +282,99 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
   EXPECT_GE(compared, 40);
   EXPECT_GE(feasible, 10);
   EXPECT_GE(infeasible, 3);
+}
+
+// Action events (contract section 15, issue 28): random actions of the tiny problems' automata,
+// ordered or in either order, as a sequence, forbidden, with first, last and every occurrences.
+// The enumeration places the orders' events and the verifier keeps the plans that obey them.
+Json RandomActionRules(const Json& domain_json, const Domain& d, std::mt19937& rng) {
+  auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  (void)domain_json;
+  Json actions = Json::object();
+  std::vector<std::string> names, occurrences;
+  for (int n = 0; n < 2; ++n) {
+    const int a = static_cast<int>(pick(d.automata.size()));
+    const Automaton& au = d.automata[a];
+    if (au.transitions.empty()) continue;
+    const Transition& t = au.transitions[pick(au.transitions.size())];
+    Json act = {{"automaton", au.name}};
+    if (t.commanded && t.command > 0 && pick(2) == 0) {
+      act["command"] = au.commands[t.command - 1];
+    } else {
+      act["from"] = au.locations[t.from];
+      act["to"] = au.locations[t.to];
+    }
+    const char* occ[] = {"first", "first", "last", "every"};
+    std::string o = occ[pick(4)];
+    if (o != "first") act["occurrence"] = o;
+    const std::string name = "Act" + std::to_string(n);
+    actions[name] = act;
+    names.push_back(name);
+    occurrences.push_back(o);
+  }
+  Json c = {{"actions", actions}};
+  if (names.size() < 2) {
+    if (!names.empty()) c["forbidden"] = {names[0]};
+    return c;
+  }
+  const bool every0 = occurrences[0] == "every", every1 = occurrences[1] == "every";
+  Json order = {{"event1", names[0]}, {"event2", names[1]}, {"lower_bound", static_cast<int>(pick(3))}};
+  if (pick(2)) order["upper_bound"] = order["lower_bound"].get<int>() + static_cast<int>(pick(3));
+  switch (pick(5)) {
+    case 0:  // forbidden
+      c["forbidden"] = {names[pick(2)]};
+      break;
+    case 1:  // a sequence
+      if (every0 || every1) c["forbidden"] = {names[0]};
+      else c["sequence"] = {names[0], names[1]};
+      break;
+    case 2:  // either order
+      if (every0 || every1) break;
+      c["temporal"] = {{"Either", order}};
+      break;
+    case 3:  // ordered, a condition as the second end
+      if (every0) break;
+      order.erase("event2");
+      order["accepting_event2_constraint"] = domain_json["automata"][0]["name"].get<std::string>() +
+                                             "[i+1]==" + d.automata[0].locations[pick(d.automata[0].locations.size())];
+      order["ordered"] = true;
+      c["temporal"] = {{"Then", order}};
+      break;
+    default:  // ordered actions
+      if (every0) break;
+      order["ordered"] = true;
+      c["temporal"] = {{"Then", order}};
+  }
+  return c;
+}
+
+TEST(BruteForce, ActionRulesHaveTheTrueOptimum) {
+  int compared = 0, feasible = 0, infeasible = 0, with_orders = 0;
+  for (unsigned seed = 5000; seed < 5060; ++seed) {
+    testing::ProblemGenerator gen(seed, TinyShape());
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags);
+    std::mt19937 rng(seed);
+    Json rules = RandomActionRules(p.domain, *d, rng);
+    Json& constraints = p.state_plan["constraints"];
+    if (!constraints.is_object()) constraints = Json::object();
+    for (auto& [k, v] : rules.items()) {
+      if (k == "temporal" && constraints.contains("temporal"))
+        for (auto& [n, t] : v.items()) constraints["temporal"][n] = t;
+      else constraints[k] = v;
+    }
+    with_orders += rules.contains("temporal") || rules.contains("sequence");
+    const Truth t = CompareWithTruth(p, seed);
+    if (t == Truth::kSkipped) continue;
+    ++(t == Truth::kFeasible ? feasible : infeasible);
+    ++compared;
+  }
+  EXPECT_GE(compared, 30);
+  EXPECT_GE(feasible, 8);
+  EXPECT_GE(infeasible, 3);
+  EXPECT_GE(with_orders, 20);
 }
 
 // Goals that leave a choice (issue 18's `assign` family in small): a conjunction of disjunctions

@@ -48,7 +48,11 @@ TEST(Summary, EveryShippedExampleHasEveryPartWithEveryBound) {
     if (sp.maintenance.expr.op != Expr::Op::kTrue) want.insert("/end_state/maintenance_constraint");
     for (const auto& e : sp.episodes) want.insert("/constraints/episodes/" + e.name);
     for (const auto& t : sp.temporals) want.insert("/constraints/temporal/" + t.name);
-    for (const auto& e : sp.events) want.insert("/constraints/event/" + e.name);
+    for (const SharedEvent* e : sp.AllSharedEvents()) want.insert("/constraints/event/" + e->name);
+    for (const auto& o : sp.orders)
+      if (!o.name.empty()) want.insert("/constraints/temporal/" + o.name);
+    if (!sp.sequence.empty()) want.insert("/constraints/sequence");
+    if (!sp.forbidden.empty()) want.insert("/constraints/forbidden");
     std::set<std::string> got;
     for (const auto& x : s) {
       EXPECT_TRUE(got.insert(x["pointer"].get<std::string>()).second) << "one sentence per part";

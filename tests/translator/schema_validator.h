@@ -1,6 +1,7 @@
 // A validator for the subset of JSON Schema that translator/schema.cpp emits (type, enum,
 // required, properties, additionalProperties as a boolean or a schema, propertyNames.pattern,
-// items, minItems, minimum, maximum, minLength, pattern), for the tests. A keyword outside that
+// items, minItems, minimum, maximum, minLength, pattern, const, anyOf; types including null), for
+// the tests. A keyword outside that
 // subset is reported as an error, so that the schema cannot grow past what is checked here.
 #pragma once
 
@@ -18,7 +19,8 @@ inline void Validate(const Json& s, const Json& v, const std::string& at,
       "$schema",       "title",     "description", "type",
       "enum",          "required",  "properties",  "additionalProperties",
       "propertyNames", "items",     "minItems",    "minimum",
-      "maximum",       "minLength", "pattern"};
+      "maximum",       "minLength", "pattern",
+      "const",         "anyOf"};
   for (auto it = s.begin(); it != s.end(); ++it)
     if (std::find(kKnown.begin(), kKnown.end(), it.key()) == kKnown.end())
       errors.push_back(at + ": schema keyword '" + it.key() +
@@ -26,9 +28,23 @@ inline void Validate(const Json& s, const Json& v, const std::string& at,
   auto fail = [&](const std::string& why) {
     errors.push_back((at.empty() ? "/" : at) + ": " + why);
   };
+  if (s.contains("anyOf")) {
+    bool any = false;
+    std::vector<std::string> first;
+    for (const auto& alt : s["anyOf"]) {
+      std::vector<std::string> e;
+      Validate(alt, v, at, e);
+      if (e.empty()) any = true;
+      else if (first.empty()) first = e;
+    }
+    if (!any) errors.push_back((at.empty() ? "/" : at) + ": no alternative of anyOf holds (first: " +
+                               (first.empty() ? "" : first[0]) + ")");
+  }
+  if (s.contains("const") && s["const"] != v) fail("expected " + s["const"].dump());
   if (s.contains("type")) {
     std::string t = s["type"];
     bool ok = (t == "object" && v.is_object()) || (t == "array" && v.is_array()) ||
+              (t == "null" && v.is_null()) ||
               (t == "string" && v.is_string()) || (t == "number" && v.is_number()) ||
               (t == "integer" && v.is_number_integer()) || (t == "boolean" && v.is_boolean());
     if (!ok) return fail("expected " + t + ", got " + JsonTypeName(v));
