@@ -125,6 +125,26 @@ TEST(Grpc, SolveAShippedExampleOptimally) {
   EXPECT_GT(r.state_plan_summary_size(), 0);
 }
 
+// Action events (contract section 15) cross the proto: the computer boots (15 s) before the
+// projector starts warming up (30 s).
+TEST(Grpc, AStatePlanWithAnOrderedActionSolves) {
+  GrpcServer s;
+  grpc::ClientContext c;
+  pb::PlanResult r;
+  auto st = s.stub->Solve(&c, SolveOf("presentation", "config/examples/presentation/actions.json", "makespan"), &r);
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  EXPECT_EQ(r.status(), pb::SOLVED_OPTIMALLY);
+  EXPECT_TRUE(r.trajectory().verified());
+  EXPECT_EQ(r.objective().number_value(), 15 + 30);
+  ASSERT_EQ(r.trajectory().temporal().count("BootThenWarm"), 1u);
+  EXPECT_EQ(r.trajectory().temporal().at("BootThenWarm").event1(), 15);
+  EXPECT_EQ(r.trajectory().temporal().at("BootThenWarm").event2(), 15);
+  bool said = false;
+  for (const auto& line : r.state_plan_summary())
+    said = said || line.pointer() == "/constraints/temporal/BootThenWarm";
+  EXPECT_TRUE(said);
+}
+
 TEST(Grpc, AnInfeasibleExampleIsUnsolvableWithItsExplanation) {
   GrpcServer s;
   grpc::ClientContext c;
