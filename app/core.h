@@ -31,6 +31,7 @@
 #include "planner/model/json_io.h"
 #include "planner/solve/solve.h"
 #include "translator/llm.h"
+#include "translator/pipeline.h"
 
 namespace ctb::app {
 
@@ -73,6 +74,8 @@ class Observer {
   // Each improving verified plan: {"kind", "objective", "cost", "makespan", "horizon", "bound"?,
   // "elapsed_ms"}.
   virtual void OnSolution(const Json& /*progress*/) {}
+  // An eval item's line (Core::Eval), as it ends.
+  virtual void OnItem(const Json& /*line*/) {}
   // A stream's place among the solver jobs, reserved before its 200 head went out
   // (Core::ReserveJob); its job enters the gate with it. Null otherwise.
   std::shared_ptr<class JobTicket> ticket;
@@ -123,6 +126,8 @@ struct TranslateCall {
   DomainRef domain;
   Json command;                         // must be a string (checked)
   std::optional<std::string> prompting;  // cot | direct
+  // Local callers (the eval): what the translation did, also when it failed. Not owned.
+  TranslateOptions::Progress* progress = nullptr;
 };
 
 struct PlanCall {
@@ -167,6 +172,20 @@ struct ExecutionCall {
   // measure what replanning buys).
   bool replan = true;
 };
+
+// Measuring how well the configured LLM translates (contract section 15; app/core_eval.cpp): a
+// suite of {"domain", "command", "reference"}; each command translated, its state plan and the
+// reference solved, and compared.
+struct EvalCall {
+  Json suite;                            // the list of items
+  std::string pointer;                   // where the list sits in the request ("" or "/suite")
+  std::optional<std::string> prompting;  // cot | direct
+  std::optional<long> time_limit_ms;     // per solve (default 10000, capped by the service's)
+};
+
+// One item's line: {"item", "domain", "parsed", "valid", "solvable", "verdict", "ms", "tokens"}
+// (+ "why" unless equivalent); called as each item ends.
+using EvalSink = std::function<void(const Json& line)>;
 
 // Where an adapter hears the commands of the executions it carries.
 class CommandSink {
@@ -268,6 +287,9 @@ class Core {
   std::variant<ValidateAnswer, Error> Validate(const SolveCall& call);
   std::variant<TranslateAnswer, Error> Translate(const TranslateCall& call, const CallContext& ctx);
   std::variant<PlanAnswer, Error> Plan(const PlanCall& call, const CallContext& ctx);
+  // The totals {"items", "equivalent", "not_equivalent", "unparsed", "invalid", "unknown"}; the
+  // suite is checked whole first (every reference must load: kInvalidInput at its pointer).
+  std::variant<Json, Error> Eval(const EvalCall& call, const CallContext& ctx, const EvalSink& each);
   // The answer document carries "session" when the call named one.
   std::variant<Answer, Error> Replan(const ReplanCall& call, const CallContext& ctx);
 

@@ -81,6 +81,7 @@ std::variant<Translated, Error> RunTranslation(Core::Impl& core, const Translate
   to.prompts_dir = core.cfg.prompts_dir;
   to.max_repairs = core.cfg.llm.max_repairs;
   to.response_format = core.cfg.llm.response_format;
+  to.progress = call.progress;
   if (call.prompting) {
     auto p = ParsePrompting(*call.prompting);
     if (!p) return Bad("\"prompting\" must be cot or direct", "/prompting");

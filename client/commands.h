@@ -37,6 +37,10 @@ Runner AddTranslate(CLI::App& app);
 // locally or through a running server; prints {state_plan, reasoning, trajectory[, session]}.
 Runner AddPlan(CLI::App& app);
 
+// `ctburton eval --suite FILE [--json] [--time-limit-ms N]` (contract section 15): each item's
+// verdict, then the totals and rates; with --json one object a line, then the totals line.
+Runner AddEval(CLI::App& app);
+
 // `ctburton schema --domain NAME|PATH`: prints the JSON Schema of the domain's state plans (the
 // one sent with CTB_LLM_RESPONSE_FORMAT=json_schema); 2 for a bad domain.
 Runner AddSchema(CLI::App& app);

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddTranslate(app));
   runners.push_back(ctb::cli::AddServe(app));
   runners.push_back(ctb::cli::AddPlan(app));
+  runners.push_back(ctb::cli::AddEval(app));
   runners.push_back(ctb::cli::AddSchema(app));
   runners.push_back(ctb::cli::AddReplan(app));
   runners.push_back(ctb::cli::AddExecute(app));

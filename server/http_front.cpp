@@ -290,6 +290,30 @@ class HttpFrontEnd::Impl {
     SendJson(res, 200, out);
   }
 
+  // POST /eval (contract section 15): {"suite", "prompting"?, "time_limit_ms"?} ->
+  // {"items": [...], "totals": {...}}; streamed, each item as an `item` event.
+  void HandleEval(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
+    auto body = Body(req, res);
+    if (!body) return;
+    if (auto e = CheckKeys(*body, {"suite", "prompting", "time_limit_ms"})) return SendError(res, *e);
+    app::EvalCall call;
+    if (!body->contains("suite")) return SendError(res, Bad("missing required field \"suite\"", "/suite"));
+    call.suite = (*body)["suite"];
+    call.pointer = "/suite";
+    auto p = OptString(*body, "prompting", "\"prompting\" must be cot or direct");
+    if (auto* e = std::get_if<Error>(&p)) return SendError(res, *e);
+    call.prompting = std::get<std::optional<std::string>>(p);
+    if (body->contains("time_limit_ms")) {
+      const Json& t = (*body)["time_limit_ms"];
+      if (!t.is_number_integer()) return SendError(res, Bad("\"time_limit_ms\" must be an integer", "/time_limit_ms"));
+      call.time_limit_ms = t.get<long>();
+    }
+    Json items = Json::array();
+    auto r = core_.Eval(call, Context(req, obs), [&items](const Json& line) { items.push_back(line); });
+    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    SendJson(res, 200, {{"items", items}, {"totals", std::get<Json>(r)}});
+  }
+
   void HandlePlan(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
     auto body = Body(req, res);
     if (!body) return;
@@ -602,6 +626,9 @@ class HttpFrontEnd::Impl {
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));
     svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
+    }));
+    svr_.Post("/eval", Wrap("/eval", [this](auto& q, auto& s) {
+      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleEval(q2, s2, o); });
     }));
     DomainRoutes();
     ExecutionRoutes();

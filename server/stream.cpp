@@ -60,6 +60,7 @@ class SseObserver : public app::Observer {
     data["elapsed_ms"] = s_.ElapsedMs();
     s_.Send("solution", data);
   }
+  void OnItem(const Json& line) override { s_.Send("item", line); }
 
  private:
   EventStream& s_;

@@ -4,6 +4,7 @@
 //   event: stage     {"stage": "translating"|"repairing"|"solving", "elapsed_ms", "llm_call"?}
 //   event: solution  {"objective", "kind", "cost", "makespan", "horizon", "elapsed_ms"}, one per
 //                    improving verified plan
+//   event: item      POST /eval: one item's line as it ends (contract section 15)
 //   event: done      the whole answer, exactly what the route answers without streaming
 // or, instead of done, a last
 //   event: error     {"status": <the HTTP status the route would answer>, "error": {...}}

@@ -232,6 +232,9 @@ class HttpClient : public LlmClient {
       r.notes.push_back("the answer's content was an array of parts; their text was joined");
     }
     if (m.contains("refusal") && m["refusal"].is_string()) r.refusal = m["refusal"].get<std::string>();
+    if (j.contains("usage") && j["usage"].is_object() && j["usage"].contains("total_tokens") &&
+        j["usage"]["total_tokens"].is_number_integer() && j["usage"]["total_tokens"].get<long>() > 0)
+      r.tokens = j["usage"]["total_tokens"].get<long>();
     if (r.content.find_first_not_of(" \t\r\n") == std::string::npos && m.contains("tool_calls") &&
         m["tool_calls"].is_array() && !m["tool_calls"].empty()) {
       const Json& call = m["tool_calls"][0];

@@ -72,6 +72,7 @@ class RecordingClient : public LlmClient {
       Json rec = {{"model", model()},
                   {"request", body},
                   {"response", {{"content", ok->content}, {"finish_reason", ok->finish_reason}}}};
+      if (ok->tokens > 0) rec["response"]["tokens"] = ok->tokens;
       std::lock_guard<std::mutex> lock(mu_);
       std::ofstream(dir_ + "/" + RequestKey(model(), body) + ".json")
           << rec.dump(1, ' ', false, Json::error_handler_t::replace) << "\n";
@@ -168,6 +169,9 @@ std::variant<std::unique_ptr<LlmClient>, Error> MakeReplayClient(const std::stri
     ChatResponse r;
     r.content = (*j)["response"]["content"].get<std::string>();
     r.finish_reason = (*j)["response"].value("finish_reason", "stop");
+    if (const auto it = (*j)["response"].find("tokens");
+        it != (*j)["response"].end() && it->is_number_integer() && it->get<long>() > 0)
+      r.tokens = it->get<long>();
     answers[RequestKey(m, (*j)["request"])] = std::move(r);
   }
   return std::unique_ptr<LlmClient>(std::make_unique<ReplayClient>(std::move(answers), model, dir));

@@ -36,6 +36,7 @@ struct ChatResponse {
   std::string finish_reason;
   std::string refusal;        // the model's refusal (OpenAI's message.refusal), if any
   std::vector<std::string> notes;  // how the content was read (content parts, tool call)
+  long tokens = 0;            // usage.total_tokens when the endpoint (or the recording) says it
 };
 
 // The request body sent to /chat/completions (also the record/replay key, canonical JSON).

@@ -240,6 +240,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
     ++result.llm_calls;
     auto r = llm.Complete(req);
     if (auto* e = std::get_if<Error>(&r)) return *e;
+    if (o.progress) o.progress->tokens += std::get<ChatResponse>(r).tokens;
     // The answer is quoted back once, bounded: a huge answer does not grow every later request.
     msgs.push_back({"assistant", Excerpt(std::get<ChatResponse>(r).content, kMaxQuotedAnswer)});
     return r;
@@ -267,6 +268,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   if (auto* e = std::get_if<Error>(&answer)) return *e;
   Check check = CheckAnswer(std::get<ChatResponse>(answer), d, command);
   std::optional<Json> first = check.json;  // the first answer read as JSON
+  if (o.progress && first) o.progress->read_json = true;
   while ((!check.errors.empty() || !check.warnings.empty()) && result.repairs < o.max_repairs) {
     ++result.repairs;
     msgs.push_back({"user", FillPrompt(*repair, {{"errors", ListProblems(check)}})});
@@ -294,6 +296,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
       for (auto& dropped : Dropped(*first, *next.json, goal_flagged))
         next.warnings.push_back(std::move(dropped));
     if (!first && next.json) first = next.json;
+    if (o.progress && next.json) o.progress->read_json = true;
     if (check.plan && !next.errors.empty()) {
       std::string why = next.errors.front().ToString();
       check.notes.push_back({"", std::nullopt, "a repaired answer was not taken (" + Cut(why, 300) +

@@ -30,6 +30,13 @@ struct TranslateOptions {
   // A follow-up in a dialogue: the previous exchange and the state plan to edit.
   std::vector<ChatMessage> history;
   std::optional<Json> previous_state_plan;
+  // Filled as the translation goes, also when it fails (ctburton eval): whether any answer
+  // could be read as JSON, and the tokens the endpoint reported.
+  struct Progress {
+    bool read_json = false;
+    long tokens = 0;
+  };
+  Progress* progress = nullptr;
 };
 
 struct TranslateResult {

@@ -1,0 +1,63 @@
+#include "planner/solve/plan_check.h"
+
+namespace ctb {
+
+const char* PlanCheckName(PlanCheck c) {
+  switch (c) {
+    case PlanCheck::kValid: return "valid";
+    case PlanCheck::kInvalid: return "invalid";
+    case PlanCheck::kUnknown: return "unknown";
+  }
+  return "unknown";
+}
+
+std::shared_ptr<History> HistoryOfRun(const Trajectory& t, std::size_t automata) {
+  auto h = std::make_shared<History>();
+  const int g = t.goal_event;
+  h->times.assign(t.events.begin(), t.events.begin() + g + 1);
+  h->locations.assign(automata, {});
+  h->entry.assign(automata, std::vector<long>(g + 1, 0));
+  for (std::size_t a = 0; a < automata; ++a)
+    h->locations[a].assign(t.locations[a].begin(), t.locations[a].begin() + g + 1);
+  for (const auto& f : t.fired)
+    if (f.event <= g) h->fired.push_back(f);
+  for (std::size_t a = 0; a < automata; ++a) {
+    long entered = 0;
+    for (int k = 0; k <= g; ++k) {
+      for (const auto& f : t.fired)
+        if (f.event == k && f.automaton == static_cast<int>(a)) entered = t.events[k];
+      h->entry[a][k] = entered;
+    }
+  }
+  h->now = t.events[g];
+  return h;
+}
+
+PlanCheck CheckPlanAgainst(const Trajectory& t, const Domain& d, const StatePlan& sp,
+                           const SolveOptions& base) {
+  if (t.goal_event < 0 || static_cast<int>(t.events.size()) <= t.goal_event ||
+      t.locations.size() != d.automata.size())
+    return PlanCheck::kInvalid;
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    if (t.locations[a].empty() || t.locations[a][0] != sp.initial[a]) return PlanCheck::kInvalid;
+  SolveOptions o = base;
+  o.history = HistoryOfRun(t, d.automata.size());
+  o.horizon = t.goal_event;
+  o.first_horizon = 0;
+  o.objective = Objective::kCost;
+  o.first_plan_ms = 0;
+  o.derive_network = false;
+  o.plan_out = nullptr;
+  o.on_progress = nullptr;
+  o.model_out.clear();
+  auto r = Solve(d, sp, o);
+  const Json* doc = std::get_if<Json>(&r);
+  if (!doc) return PlanCheck::kUnknown;
+  const std::string status = doc->value("status", "");
+  if (status == "optimal" || status == "feasible")
+    return doc->value("verified", false) ? PlanCheck::kValid : PlanCheck::kUnknown;
+  if (status == "infeasible") return PlanCheck::kInvalid;
+  return PlanCheck::kUnknown;
+}
+
+}  // namespace ctb

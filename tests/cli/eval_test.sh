@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Black-box test of `ctburton eval` offline (contract section 15): the shipped suite of the
+# thesis' test prompts replayed from the shipped recordings, its lines and totals, and what a
+# reference that means something else turns into.
+set -u
+BIN=$1
+SRC=$2
+cd "$SRC"
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail=0
+ok() { echo "ok   $1"; }
+bad() { echo "FAIL $1"; fail=$((fail + 1)); }
+
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite config/eval/thesis.json --prompting cot --json > "$T/out.txt" 2> "$T/err.txt"
+rc=$?
+if [ $rc = 0 ] && python3 - "$T/out.txt" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+items, totals = lines[:-1], lines[-1]
+assert len(items) == 5, lines
+for l in items:
+    assert set(l) >= {"item", "domain", "parsed", "valid", "solvable", "verdict", "ms", "tokens"}, l
+    assert l["verdict"] == "equivalent", l
+assert totals == {"items": 5, "equivalent": 5, "not_equivalent": 0, "unparsed": 0, "invalid": 0, "unknown": 0}, totals
+PY
+then ok "the thesis suite replayed: 5 equivalent"; else bad "thesis suite (rc=$rc)"; cat "$T/out.txt" "$T/err.txt"; fi
+
+# Rates printed without --json.
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite config/eval/thesis.json --prompting cot > "$T/out.txt" 2> "$T/err.txt"
+grep -q "^items 5: parsed 5 (100 %), valid 5 (100 %), solvable 5 (100 %), equivalent 5 (100 %)" "$T/out.txt" \
+  && ok "rates printed" || { bad "rates printed"; cat "$T/out.txt"; }
+
+# A reference that asks for another person: the recorded translation is not equivalent.
+python3 - <<'PY' > "$T/other.json"
+import json
+s = json.load(open("config/eval/thesis.json"))
+item = s[3]
+item["reference"]["end_state"]["goal_constraint"] = item["reference"]["end_state"]["goal_constraint"].replace("rescuedPerson1", "rescuedPerson2")
+print(json.dumps([item]))
+PY
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite "$T/other.json" --prompting cot --json > "$T/out.txt" 2> "$T/err.txt"
+head -1 "$T/out.txt" | grep -q '"verdict":"not_equivalent"' && ok "another goal: not equivalent" || { bad "another goal"; cat "$T/out.txt" "$T/err.txt"; }
+
+# A suite that is not a list, and a reference that does not load: exit 1 with the pointer.
+echo '{"domain": "presentation"}' > "$T/bad.json"
+"$BIN" eval --suite "$T/bad.json" > /dev/null 2> "$T/err.txt"
+[ $? = 1 ] && ok "not a list: exit 1" || bad "not a list"
+python3 -c "
+import json; s=json.load(open('config/eval/thesis.json'))[:1]; s[0]['reference']['initial_state']['comp']='compOf'
+print(json.dumps(s))" > "$T/bad.json"
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite "$T/bad.json" > /dev/null 2> "$T/err.txt"
+rc=$?
+[ $rc = 1 ] && grep -q "/0/reference/initial_state/comp" "$T/err.txt" && ok "bad reference: exit 1 at its pointer" || { bad "bad reference (rc=$rc)"; cat "$T/err.txt"; }
+
+echo "$((fail == 0 ? 1 : 0)) passed, $fail failed"
+[ "$fail" = 0 ]
