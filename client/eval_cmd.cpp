@@ -25,11 +25,10 @@ int Fail(const Error& e) {
   return ExitCodeFor(e.code);
 }
 
-std::string Rate(const Json& totals, const char* key) {
-  const int n = totals["items"].get<int>();
+// "7 (88 %)": a count and its share of n.
+std::string Rate(int count, int n) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%d (%.0f %%)", totals[key].get<int>(),
-                n ? 100.0 * totals[key].get<int>() / n : 0.0);
+  std::snprintf(buf, sizeof buf, "%d (%.0f %%)", count, n ? 100.0 * count / n : 0.0);
   return buf;
 }
 
@@ -66,12 +65,11 @@ int RunEval(const EvalCliOptions& o) {
     return 0;
   }
   const int n = t["items"].get<int>();
-  auto pct = [n](int v) { return std::to_string(v) + " (" + std::to_string(n ? 100 * v / n : 0) + " %)"; };
-  std::cout << "items " << n << ": parsed " << pct(parsed) << ", valid " << pct(valid)
-            << ", solvable " << pct(solvable) << ", equivalent " << Rate(t, "equivalent")
-            << ", not equivalent " << Rate(t, "not_equivalent") << ", unparsed "
-            << Rate(t, "unparsed") << ", invalid " << Rate(t, "invalid") << ", unknown "
-            << Rate(t, "unknown") << std::endl;
+  auto rate = [&](const char* key) { return Rate(t[key].get<int>(), n); };
+  std::cout << "items " << n << ": parsed " << Rate(parsed, n) << ", valid " << Rate(valid, n)
+            << ", solvable " << Rate(solvable, n) << ", equivalent " << rate("equivalent")
+            << ", not equivalent " << rate("not_equivalent") << ", unparsed " << rate("unparsed")
+            << ", invalid " << rate("invalid") << ", unknown " << rate("unknown") << std::endl;
   return 0;
 }
 

@@ -119,11 +119,25 @@ export function constraintBrackets(t, sp) {
   for (const [name, e] of Object.entries(t.temporal || {})) {
     const c = spc.temporal?.[name] || {};
     const achieved = Math.abs(e.event2 - e.event1);
+    // An order (contract section 15: actions as its events, or "ordered") has a lower bound of 0
+    // unless it says otherwise; an ordered one is drawn as an arrow from event 1 to event 2.
+    const order = c.event1 !== undefined || c.event2 !== undefined || c.ordered === true;
+    const lo = c.lower_bound ?? (order ? 0 : undefined);
     out.push({ kind: "temporal", name, from: Math.min(e.event1, e.event2), to: Math.max(e.event1, e.event2),
-      lo: c.lower_bound, hi: c.upper_bound, achieved, event1: e.event1, event2: e.event2,
-      label: `${name} within [${bound(c.lower_bound)}, ${bound(c.upper_bound)}] s: ${seconds(achieved)}` });
+      lo, hi: c.upper_bound, achieved, event1: e.event1, event2: e.event2, ordered: c.ordered === true,
+      label: `${name} within [${bound(lo)}, ${bound(c.upper_bound)}] s: ${seconds(achieved)}` });
   }
   return out;
+}
+
+// The state plan's action events (contract section 15) that a command marker is: names of the
+// actions of `automaton` given by this command (or by its from/to).
+export function actionsOf(sp, tr) {
+  const acts = sp?.constraints?.actions || {};
+  return Object.entries(acts).filter(([, a]) => a.automaton === tr.automaton &&
+    (a.command === undefined || a.command === tr.command) &&
+    (a.from === undefined || a.from === tr.from) && (a.to === undefined || a.to === tr.to))
+    .map(([n]) => n);
 }
 
 // Greedy lanes: items sorted by x0 go to the first lane whose last item ended before them.
@@ -442,6 +456,12 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
         g.appendChild(svgEl("line", { x1: it.px, x2: it.px, y1: r.y + rowH, y2: ly, class: "command-stem" }));
         g.appendChild(svgEl("path", { d: `M ${it.px} ${ly - 5} l 5 5 l -5 5 l -5 -5 z`, class: "command-mark" }));
         g.appendChild(svgEl("text", { x: it.left ? it.x0 + 2 : it.px + 7, y: ly + 4, class: "command-label" }, it.tr.command));
+        const acts = actionsOf(sp, { ...it.tr, automaton: r.name });
+        if (acts.length) {
+          g.classList.add("action-event");
+          g.dataset.action = acts.join(" ");
+          g.appendChild(svgEl("title", {}, `action ${acts.join(", ")}`));
+        }
         plot.appendChild(g);
       }
     }
@@ -452,7 +472,18 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
         "data-name": it.b.name, "data-constraint": it.b.kind, "data-pointer":
           `/constraints/${it.b.kind === "episode" ? "episodes" : "temporal"}/${it.b.name}` });
       const x0 = it.bx0, x1 = Math.max(it.bx1, it.bx0 + 2), yb = by + font + 10;
-      g.appendChild(svgEl("path", { d: `M ${x0} ${yb} V ${yb - 6} H ${x1} V ${yb}`, class: "bracket-line" }));
+      if (it.b.ordered) {
+        // "First event 1, then event 2": an arrow towards event 2.
+        g.classList.add("ordered");
+        g.dataset.ordered = "true";
+        const right = it.b.event2 >= it.b.event1;
+        const tip = right ? x1 : x0, back = right ? -6 : 6;
+        g.appendChild(svgEl("path", { d: `M ${x0} ${yb - 3} H ${x1}`, class: "bracket-line" }));
+        g.appendChild(svgEl("path", { d: `M ${tip + back} ${yb - 7} L ${tip} ${yb - 3} L ${tip + back} ${yb + 1}`,
+          class: "bracket-line arrow-head" }));
+      } else {
+        g.appendChild(svgEl("path", { d: `M ${x0} ${yb} V ${yb - 6} H ${x1} V ${yb}`, class: "bracket-line" }));
+      }
       g.appendChild(svgEl("rect", { x: x0, y: by, width: Math.max(12, x1 - x0), height: font + 12, class: "hit" }));
       g.appendChild(svgEl("text", { x: it.x0 + 2, y: by + font, class: "bracket-label" }, it.b.label));
       s.appendChild(g);

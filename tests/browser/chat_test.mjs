@@ -139,11 +139,22 @@ try {
         ...Object.entries(t.episodes || {}).map(([n, e]) =>
           `${n} lasts [${sp.episodes[n].lower_bound}, ${sp.episodes[n].upper_bound ?? "∞"}] s: ${e.end - e.start} s`),
         ...Object.entries(t.temporal || {}).map(([n, e]) =>
-          `${n} within [${sp.temporal[n].lower_bound}, ${sp.temporal[n].upper_bound ?? "∞"}] s: ${Math.abs(e.event2 - e.event1)} s`),
+          `${n} within [${sp.temporal[n].lower_bound ?? 0}, ${sp.temporal[n].upper_bound ?? "∞"}] s: ${Math.abs(e.event2 - e.event1)} s`),
       ].sort();
       const brackets = (await turn.locator("svg.timeline .bracket-label").allTextContents()).sort();
       check(`${name}: a bracket per episode and temporal constraint, with bounds and achieved value`,
             JSON.stringify(brackets) === JSON.stringify(expected), `${JSON.stringify(brackets)} vs ${JSON.stringify(expected)}`);
+      // Orders (contract section 15): an arrow per ordered constraint, each command that is a named
+      // action marked with its name.
+      for (const [n, c] of Object.entries(sp.temporal || {}).filter(([, c]) => c.ordered === true))
+        check(`${name}: ${n} is drawn as an arrow`,
+              (await turn.locator(`svg.timeline g.bracket.ordered[data-name="${n}"] path.arrow-head`).count()) === 1);
+      for (const [n, a] of Object.entries(sp.actions || {}).filter(([, a]) => a.command)) {
+        const fired = (t.transitions || []).filter((x) => x.automaton === a.automaton && x.command === a.command).length;
+        const marked = await turn.locator("svg.timeline g.command.action-event").evaluateAll(
+          (els, act) => els.filter((e) => e.dataset.action.split(" ").includes(act)).length, n);
+        check(`${name}: action ${n} marked on each of its ${fired} command(s)`, marked === fired, `${marked}`);
+      }
       const windows = await turn.locator(".flexibility .windows li").count();
       check(`${name}: the flexibility block says it is robust and lists a window per transition`,
             windows === (t.transitions || []).length && windows > 0 &&

@@ -18,17 +18,22 @@ if [ $rc = 0 ] && python3 - "$T/out.txt" <<'PY'
 import json, sys
 lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 items, totals = lines[:-1], lines[-1]
-assert len(items) == 5, lines
+assert len(items) == 8, lines
 for l in items:
     assert set(l) >= {"item", "domain", "parsed", "valid", "solvable", "verdict", "ms", "tokens"}, l
     assert l["verdict"] == "equivalent", l
-assert totals == {"items": 5, "equivalent": 5, "not_equivalent": 0, "unparsed": 0, "invalid": 0, "unknown": 0}, totals
+assert totals == {"items": 8, "equivalent": 8, "not_equivalent": 0, "unparsed": 0, "invalid": 0, "unknown": 0}, totals
 PY
-then ok "the thesis suite replayed: 5 equivalent"; else bad "thesis suite (rc=$rc)"; cat "$T/out.txt" "$T/err.txt"; fi
+then ok "the shipped suite replayed: 8 equivalent"; else bad "thesis suite (rc=$rc)"; cat "$T/out.txt" "$T/err.txt"; fi
 
-# Rates printed without --json.
+# Rates printed without --json; the direct answers: the thesis' answer to presentation test
+# prompt 2 is infeasible where its reference is not.
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite config/eval/thesis.json --prompting direct > "$T/out.txt" 2> "$T/err.txt"
+grep -q "^item 1 (presentation): not_equivalent" "$T/out.txt" && grep -q "equivalent 7 (88 %), not equivalent 1 (12 %)" "$T/out.txt" \
+  && ok "direct: 7 equivalent, 1 not" || { bad "direct"; cat "$T/out.txt" "$T/err.txt"; }
+
 CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite config/eval/thesis.json --prompting cot > "$T/out.txt" 2> "$T/err.txt"
-grep -q "^items 5: parsed 5 (100 %), valid 5 (100 %), solvable 5 (100 %), equivalent 5 (100 %)" "$T/out.txt" \
+grep -q "^items 8: parsed 8 (100 %), valid 8 (100 %), solvable 8 (100 %), equivalent 8 (100 %)" "$T/out.txt" \
   && ok "rates printed" || { bad "rates printed"; cat "$T/out.txt"; }
 
 # A reference that asks for another person: the recorded translation is not equivalent.
