@@ -290,6 +290,8 @@ class Core {
   // The totals {"items", "equivalent", "not_equivalent", "unparsed", "invalid", "unknown"}; the
   // suite is checked whole first (every reference must load: kInvalidInput at its pointer).
   std::variant<Json, Error> Eval(const EvalCall& call, const CallContext& ctx, const EvalSink& each);
+  // The shipped suite (<config_dir>/eval/thesis.json), for the page; kNotFound when absent.
+  std::variant<Json, Error> ShippedEvalSuite() const;
   // The answer document carries "session" when the call named one.
   std::variant<Answer, Error> Replan(const ReplanCall& call, const CallContext& ctx);
 

@@ -187,4 +187,12 @@ std::variant<Json, Error> Core::Eval(const EvalCall& call, const CallContext& ct
   return totals;
 }
 
+std::variant<Json, Error> Core::ShippedEvalSuite() const {
+  Diagnostics diags;
+  const std::string path = impl_->cfg.config_dir + "/eval/thesis.json";
+  auto j = ReadJsonFile(path, diags);
+  if (!j) return Error{ErrorCode::kNotFound, "no shipped eval suite (" + path + ")", {}};
+  return *j;
+}
+
 }  // namespace ctb::app

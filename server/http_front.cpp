@@ -627,6 +627,11 @@ class HttpFrontEnd::Impl {
     svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
     }));
+    svr_.Get("/eval/suite", Wrap("/eval/suite", [this](auto&, auto& s) {
+      auto r = core_.ShippedEvalSuite();
+      if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
+      SendJson(s, 200, std::get<Json>(r));
+    }));
     svr_.Post("/eval", Wrap("/eval", [this](auto& q, auto& s) {
       WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleEval(q2, s2, o); });
     }));

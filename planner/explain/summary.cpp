@@ -166,15 +166,15 @@ std::string EndWords(const Domain& d, const StatePlan& sp, const OrderEnd& e) {
   if (e.action < 0) return "the moment " + Words(d, sp, e.condition.raw_info.IsChange()).Of(e.condition.raw);
   if (sp.actions[e.action].occurrence == Occurrence::kEvery)
     return "every time " + ActionWords(d, sp, e.action, false);
-  return "the moment " + ActionWords(d, sp, e.action);
+  return ActionWords(d, sp, e.action);
 }
 
 std::string OrderWords(const Domain& d, const StatePlan& sp, const Order& o) {
   const double upper = o.upper.value_or(kNoUpper);
   const std::string gap = o.lower == 0 && !o.upper ? "" : ", " + BoundWords(o.lower, upper) + " later";
   if (o.ordered)
-    return "First " + EndWords(d, sp, o.first) + "; then, no earlier, " + EndWords(d, sp, o.second) + gap +
-           " (temporal constraint " + o.name + ").";
+    return "First " + EndWords(d, sp, o.first) + "; then, at that moment or later, " +
+           EndWords(d, sp, o.second) + gap + " (temporal constraint " + o.name + ").";
   return Capitalize(BoundWords(o.lower, upper)) + " between " + EndWords(d, sp, o.first) + " and " +
          EndWords(d, sp, o.second) + ", in either order (temporal constraint " + o.name + ").";
 }
@@ -187,7 +187,7 @@ void SummarizeActions(const Domain& d, const StatePlan& sp,
   if (!sp.sequence.empty()) {
     std::vector<std::string> steps;
     for (int j : sp.sequence) steps.push_back(ActionWords(d, sp, j));
-    std::string text = "In this order, each at a later event than the one before: ";
+    std::string text = "One after the other (each after the one before, possibly at the same time): ";
     for (std::size_t k = 0; k < steps.size(); ++k) text += (k ? ", then " : "") + steps[k];
     add("/constraints/sequence", text + ".");
   }

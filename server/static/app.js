@@ -12,6 +12,7 @@ import { clock, seconds } from "./timeline.js";
 import * as store from "./store.js";
 import { initTeam, domainChanged } from "./domains.js";
 import { initServerExec } from "./serverexec.js";
+import { initEval } from "./eval.js";
 
 const $ = (id) => document.getElementById(id);
 const LIMIT = 8000;  // bytes of UTF-8, as the server counts (translator/pipeline.cpp)
@@ -409,6 +410,7 @@ async function init() {
   });
   initTeam({ currentDomain: () => $("domain").value, onSaved: reloadDomains });
   initServerExec();
+  initEval();
   updateCounter();
   await restore();
   document.body.dataset.ready = "1";

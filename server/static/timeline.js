@@ -214,6 +214,11 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
   marks.innerHTML = '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#1d2330"/></svg>command</span>' +
     '<span class="legend-item"><svg width="16" height="12"><line x1="8" y1="0" x2="8" y2="12" stroke="#b3261e" stroke-width="2" stroke-dasharray="3 2"/></svg>goal</span>' +
     '<span class="legend-item"><svg width="22" height="12"><path d="M1 10 V4 H21 V10" fill="none" stroke="#3b4a6b" stroke-width="1.5"/></svg>constraint: bounds and achieved</span>';
+  const spc = sp?.constraints || {};
+  if (Object.keys(spc.actions || {}).length)
+    marks.innerHTML += '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#1d2330" stroke="#b35c00" stroke-width="2"/></svg>a named action</span>';
+  if (Object.values(spc.temporal || {}).some((c) => c.ordered === true))
+    marks.innerHTML += '<span class="legend-item"><svg width="22" height="12"><path d="M1 6 H20 M15 2 L20 6 L15 10" fill="none" stroke="#3b4a6b" stroke-width="1.5"/></svg>first, then</span>';
   if (history !== null || opts.executable)
     marks.innerHTML += '<span class="legend-item"><svg width="16" height="12"><rect width="16" height="12" fill="#e9ebf0"/><path d="M0 12 L12 0 M4 12 L16 0 M-4 4 L4 -4 M12 16 L20 8" stroke="#5a6378" stroke-width="1.2"/></svg>executed</span>' +
       '<span class="legend-item"><svg width="10" height="12"><line x1="5" y1="0" x2="5" y2="12" stroke="#1f5fbf" stroke-width="2"/></svg>now</span>';
@@ -476,9 +481,11 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
         // "First event 1, then event 2": an arrow towards event 2.
         g.classList.add("ordered");
         g.dataset.ordered = "true";
+        // At least 16 px long, so that an order met at one moment still reads as an arrow.
         const right = it.b.event2 >= it.b.event1;
-        const tip = right ? x1 : x0, back = right ? -6 : 6;
-        g.appendChild(svgEl("path", { d: `M ${x0} ${yb - 3} H ${x1}`, class: "bracket-line" }));
+        const a0 = right ? x0 : Math.min(x0, x1 - 16), a1 = right ? Math.max(x1, x0 + 16) : x1;
+        const tip = right ? a1 : a0, back = right ? -6 : 6;
+        g.appendChild(svgEl("path", { d: `M ${a0} ${yb - 3} H ${a1}`, class: "bracket-line" }));
         g.appendChild(svgEl("path", { d: `M ${tip + back} ${yb - 7} L ${tip} ${yb - 3} L ${tip + back} ${yb + 1}`,
           class: "bracket-line arrow-head" }));
       } else {

@@ -225,6 +225,21 @@ try {
   check("an example in direct mode yields a chart", (await direct.locator("svg.timeline").count()) === 1);
   await page.selectOption("#prompting", "cot");
 
+  // --- The model's eval (contract section 15): the shipped suite replayed, a table per domain ---
+  const suite = JSON.parse(readFileSync(`${src}/config/eval/thesis.json`, "utf8"));
+  await page.locator("#eval-title").click();
+  await page.click("#eval-run");
+  await page.waitForFunction(() => /^done/.test(document.getElementById("eval-status").textContent), null,
+                             { timeout: 120000 });
+  check("eval: a table per domain", (await page.locator("#eval-tables table.eval-table").count()) ===
+        new Set(suite.map((x) => x.domain)).size);
+  const evalVerdicts = await page.locator("#eval-tables tr[data-item]").evaluateAll((rows) => rows.map((r) => r.dataset.verdict));
+  check("eval: every item equivalent from the recordings", evalVerdicts.length === suite.length &&
+        evalVerdicts.every((v) => v === "equivalent"), JSON.stringify(evalVerdicts));
+  check("eval: each table says its rates", (await page.locator("#eval-tables .eval-total").allTextContents())
+        .every((t) => /equivalent \d+ \(100 %\)/.test(t)));
+  await page.locator("#eval-title").click();
+
   // --- Enter sends, Shift+Enter breaks the line; a failed follow-up offers a new dialogue ---
   await runChip(page, "presentation", 0);
   const turns = await page.locator(".turn").count();
@@ -365,7 +380,7 @@ try {
   await page.waitForSelector("body[data-ready='1']");
   await page.evaluate(() => { document.activeElement?.blur(); window.scrollTo(0, 0); });
   const order = [];
-  for (let i = 0; i < 12; i++) {
+  for (let i = 0; i < 16; i++) {
     await page.keyboard.press("Tab");
     order.push(await page.evaluate(() => document.activeElement.id || document.activeElement.className || document.activeElement.tagName));
   }

@@ -157,8 +157,8 @@ TEST(ActionLoad, TheRestatementSaysTheOrderInWords) {
   std::map<std::string, std::string> text;
   for (const auto& s : SummarizeStatePlan(d, *sp)) text[s["pointer"]] = s["text"];
   EXPECT_NE(text["/constraints/temporal/Then"].find(
-                "First the moment robot1 takes command openDoor1 (the first time) [action R1]; then, "
-                "no earlier, the moment robot2 takes command enterRoom1"),
+                "First robot1 takes command openDoor1 (the first time) [action R1]; then, at that "
+                "moment or later, robot2 takes command enterRoom1"),
             std::string::npos)
       << text["/constraints/temporal/Then"];
   EXPECT_NE(text["/constraints/temporal/Then"].find("within 0 to 60 s later"), std::string::npos);
