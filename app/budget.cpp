@@ -131,7 +131,8 @@ std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget
   if (!plan.is_object()) return std::nullopt;
   if (auto c = plan.find("constraints"); c != plan.end() && c->is_object()) {
     long n = 0;
-    for (const char* kind : {"episodes", "temporal", "event"}) {
+    // Action events (contract section 15) count like constraints: each one can add a model part.
+    for (const char* kind : {"episodes", "temporal", "event", "actions", "sequence", "forbidden"}) {
       auto k = c->find(kind);
       if (k == c->end() || !(k->is_object() || k->is_array())) continue;
       n += static_cast<long>(k->size());
@@ -140,7 +141,8 @@ std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget
           if (e.is_array()) n += static_cast<long>(e.size());
       if (n > b.max_constraints)
         return Over(pointer + "/constraints/" + kind, "max_constraints", b.max_constraints, n,
-                    "constraints (episodes, temporal, events and their endpoints) so far");
+                    "constraints (episodes, temporal, events and their endpoints, actions, "
+                    "sequence and forbidden entries) so far");
     }
   }
   return Strings(plan, b, pointer, string_total);

@@ -135,6 +135,26 @@ TEST(Hostile, ALargeInlineModelIsRefusedInMillisecondsWithTheLimitAndPointer) {
   ExpectHealthyAfter(s, before);
 }
 
+// Action events (contract section 15) count against the constraint budget: 300 actions are
+// refused before they are loaded, at their pointer.
+TEST(Hostile, ManyActionsAreOverTheConstraintBudget) {
+  ServerProcess s;
+  Json sp = Json::parse(R"({"initial_state": {"robot1": "outside", "robot2": "outside", "door1": "closed",
+      "door2": "closed", "door3": "open"},
+    "end_state": {"goal_constraint": "robot1[i+1]==rescuedPerson1"}})");
+  Json actions = Json::object(), forbidden = Json::array();
+  for (int k = 0; k < 300; ++k) {
+    actions["A" + std::to_string(k)] = {{"automaton", "robot2"}, {"command", "openDoor2"}};
+    forbidden.push_back("A" + std::to_string(k));
+  }
+  sp["constraints"] = {{"actions", actions}, {"forbidden", forbidden}};
+  auto a = RawRequest(s.port(), Post("/solve", Json({{"domain", "search_rescue"}, {"state_plan", sp}}).dump()), 10000);
+  EXPECT_EQ(a.status, 413) << a.body;
+  Json e = ErrorOf(a.body);
+  EXPECT_EQ(e["limit"]["name"], "max_constraints");
+  EXPECT_EQ(e["path"], "/state_plan/constraints/actions");
+}
+
 TEST(Hostile, AModelWithinBudgetIsStillServed) {
   const int before = SolverProcesses();
   ServerProcess s;
