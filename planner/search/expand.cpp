@@ -62,7 +62,24 @@ Expander::Expander(const Domain& d, const StatePlan& sp, long ticks_per_second)
   // Ends of episodes and second events are chosen greedily (as soon as they may), which cannot
   // make endpoints meet on one event.
   if (declined_.empty() && !sp.events.empty()) declined_ = "the state plan has shared events";
-  if (declined_.empty() && sp.HasActionRules()) declined_ = "the state plan orders or forbids actions";
+  // Orders are followed when both their ends are actions taken the first time (or `every` time, as
+  // the second end); forbidden actions are never taken.
+  if (declined_.empty() && !sp.action_events.empty())
+    declined_ = "the state plan puts actions in shared events";
+  for (const auto& o : sp.orders) {
+    if (!declined_.empty()) break;
+    for (const OrderEnd* e : {&o.first, &o.second})
+      if (e->action < 0) declined_ = "an order has a condition as an end (" + o.pointer + ")";
+      else if (sp.actions[e->action].occurrence == Occurrence::kLast)
+        declined_ = "an order reads an action's last occurrence (" + o.pointer + ")";
+    ord_lo_.push_back(Ticks(o.lower));
+    ord_hi_.push_back(o.upper ? Ticks(*o.upper) : kInfinity);
+  }
+  for (const auto& act : sp.actions) {
+    std::vector<bool> mine(d.automata[act.automaton].transitions.size(), false);
+    for (int ti : act.transitions) mine[ti] = true;
+    is_action_.push_back(std::move(mine));
+  }
 }
 
 long Expander::Ticks(double seconds) const {
@@ -138,6 +155,9 @@ std::vector<long> Expander::Targets(const Node& n) const {
   for (std::size_t q = 0; q < sp_.temporals.size(); ++q)
     if ((m.tc_k1[q] >= 0) != (m.tc_k2[q] >= 0) && m.tc_first_t[q] + tc_lo_[q] > n.time)
       out.push_back(m.tc_first_t[q] + tc_lo_[q]);
+  for (std::size_t q = 0; q < sp_.orders.size(); ++q)
+    if (m.ord_k1[q] >= 0 && m.ord_k2[q] < 0 && m.ord_t1[q] + ord_lo_[q] > n.time)
+      out.push_back(m.ord_t1[q] + ord_lo_[q]);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -154,6 +174,10 @@ std::optional<Node> Expander::Root() const {
   n.mon.tc_k1.assign(sp_.temporals.size(), -1);
   n.mon.tc_k2.assign(sp_.temporals.size(), -1);
   n.mon.tc_first_t.assign(sp_.temporals.size(), kNoTime);
+  n.mon.ord_k1.assign(sp_.orders.size(), -1);
+  n.mon.ord_k2.assign(sp_.orders.size(), -1);
+  n.mon.ord_t1.assign(sp_.orders.size(), kNoTime);
+  n.mon.ord_t2.assign(sp_.orders.size(), kNoTime);
   if (!UpdateMonitors(nullptr, n)) return std::nullopt;
   return n;
 }
@@ -302,13 +326,68 @@ bool Expander::UpdateMonitors(const Node* prev, Node& n) const {
       if (dt >= tc_lo_[q] && AtEvent(k1 < 0 ? tc.event1 : tc.event2, prev, n)) (k1 < 0 ? k1 : k2) = j;
     }
   }
+  if (!UpdateOrders(n)) return false;
   bool all = AtEvent(sp_.goal, prev, n);
   for (std::size_t p = 0; all && p < sp_.episodes.size(); ++p) all = m.ep_end[p] >= 0;
   for (std::size_t q = 0; all && q < sp_.temporals.size(); ++q)
     all = m.tc_k1[q] >= 0 && m.tc_k2[q] >= 0;
+  for (std::size_t q = 0; all && q < sp_.orders.size(); ++q) all = OrderAccepted(q, m);
   n.done = all;
   // The maintenance constraint holds on every stage before the goal event.
   return n.done || OnStage(sp_.maintenance, prev, n);
+}
+
+bool Expander::Fires(int action, const Node& n) const {
+  const int a = sp_.actions[action].automaton;
+  for (auto [b, ti] : n.fired)
+    if (b == a && is_action_[action][ti]) return true;
+  return false;
+}
+
+bool Expander::OrderAccepted(std::size_t q, const Monitors& m) const {
+  const Order& o = sp_.orders[q];
+  const bool every = sp_.actions[o.second.action].occurrence == Occurrence::kEvery;
+  return every ? m.ord_k1[q] >= 0 : m.ord_k1[q] >= 0 && m.ord_k2[q] >= 0;
+}
+
+bool Expander::UpdateOrders(Node& n) const {
+  const int j = n.event;
+  const long t = n.time;
+  for (int f : sp_.forbidden)
+    if (Fires(f, n)) return false;
+  Monitors& m = n.mon;
+  for (std::size_t q = 0; q < sp_.orders.size(); ++q) {
+    const Order& o = sp_.orders[q];
+    const bool every = sp_.actions[o.second.action].occurrence == Occurrence::kEvery;
+    int &k1 = m.ord_k1[q], &k2 = m.ord_k2[q];
+    long &t1 = m.ord_t1[q], &t2 = m.ord_t2[q];
+    const bool a = Fires(o.first.action, n), b = Fires(o.second.action, n);
+    const auto within = [&](long dt) { return dt >= ord_lo_[q] && dt <= ord_hi_[q]; };
+    if (a && k1 < 0) {
+      k1 = j;
+      t1 = t;
+    }
+    if (o.ordered) {
+      if (b && (every || k2 < 0)) {
+        if (k1 < 0 || (o.strict && k1 == j) || !within(t - t1)) return false;
+        k2 = j;
+        t2 = t;
+      }
+      // The second end can no longer come in time.
+      if (!every && k1 >= 0 && k2 < 0 && t - t1 > ord_hi_[q]) return false;
+      continue;
+    }
+    if (b && k2 < 0) {
+      k2 = j;
+      t2 = t;
+    }
+    if (k1 >= 0 && k2 >= 0) {
+      if ((a || b) && !within(std::labs(t2 - t1))) return false;
+    } else if (k1 >= 0 || k2 >= 0) {
+      if (t - (k1 >= 0 ? t1 : t2) > ord_hi_[q]) return false;
+    }
+  }
+  return true;
 }
 
 std::vector<long> Expander::Key(const Node& n) const {
@@ -330,6 +409,15 @@ std::vector<long> Expander::Key(const Node& n) const {
     key.push_back(status);
     key.push_back(status == 1 || status == 2 ? std::min(n.time - m.tc_first_t[q], tc_hi_[q] + 1)
                                              : 0);
+  }
+  // Orders: which ends are done and how long ago the one the other waits for happened (an
+  // `every` end stays open: its first end's age matters while the run goes on).
+  for (std::size_t q = 0; q < sp_.orders.size(); ++q) {
+    const int status = (m.ord_k1[q] >= 0 ? 1 : 0) + (m.ord_k2[q] >= 0 ? 2 : 0);
+    key.push_back(status);
+    const long since = m.ord_k1[q] >= 0 ? n.time - m.ord_t1[q] : m.ord_k2[q] >= 0 ? n.time - m.ord_t2[q] : 0;
+    const long cap = (ord_hi_[q] < kInfinity ? ord_hi_[q] : ord_lo_[q]) + 1;  // beyond it no rule differs
+    key.push_back(std::min(since, cap));
   }
   return key;
 }

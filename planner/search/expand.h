@@ -21,6 +21,10 @@ struct Monitors {
   std::vector<long> ep_start_t;  // ticks, once started
   std::vector<int> tc_k1, tc_k2;  // the events at which event 1 / event 2 are accepted
   std::vector<long> tc_first_t;   // ticks, once active
+  // Orders (contract section 15; actions as both ends): the events of their two ends, and their
+  // times; for an `every` second end, ord_k2 is its last firing so far.
+  std::vector<int> ord_k1, ord_k2;
+  std::vector<long> ord_t1, ord_t2;
 };
 
 // A run up to its last event k (time `time`), standing on stage k.
@@ -111,6 +115,13 @@ class Expander {
   std::vector<std::vector<int>> readers_;           // automata whose guards read a's command
   std::vector<std::vector<long>> clock_cap_;        // [automaton][location]
   std::vector<long> ep_lo_, ep_hi_, tc_lo_, tc_hi_;
+  std::vector<long> ord_lo_, ord_hi_;           // ticks; kInfinity: no upper bound
+  std::vector<std::vector<bool>> is_action_;    // [action][transition of its automaton]
+
+  // The orders' and forbidden actions' rules at event j (the verifier's); false when broken.
+  bool UpdateOrders(Node& n) const;
+  bool Fires(int action, const Node& n) const;
+  bool OrderAccepted(std::size_t q, const Monitors& m) const;
 };
 
 }  // namespace ctb::search

@@ -61,6 +61,10 @@ class Search {
       r_.declined = ex_.Declined();
       return r_;
     }
+    if (o_.history && sp_.HasActionRules()) {
+      r_.declined = "replanning a state plan that orders or forbids actions";
+      return r_;
+    }
     if (o_.history && !o_.history->keep_next.empty()) {
       r_.declined = "keep: started (transitions in progress must go on)";
       return r_;
@@ -241,6 +245,9 @@ class Search {
       t.episodes.emplace_back(m.ep_start[p], m.ep_end[p]);
     for (std::size_t q = 0; q < sp_.temporals.size(); ++q)
       t.temporals.emplace_back(m.tc_k1[q], m.tc_k2[q]);
+    // Orders: an `every` second end is its last firing, or the first end when none.
+    for (std::size_t q = 0; q < sp_.orders.size(); ++q)
+      t.orders.emplace_back(m.ord_k1[q], m.ord_k2[q] >= 0 ? m.ord_k2[q] : m.ord_k1[q]);
     return t;
   }
 

@@ -169,8 +169,39 @@ std::optional<Error> CheckRepresentable(const Domain& d, const StatePlan& sp, Ob
 
 namespace {
 
+// The domain whose forbidden transitions (contract section 15) can never fire: a plan that never
+// takes them is a run of it, so it relaxes the problem and its analyses (static conflicts, lower
+// bounds) are sound for it, and tighter. (Its own runs may still break the rule, where a
+// forbidden automatic transition would be due: plans are found on `d` and verified.)
+Domain WithoutForbidden(const Domain& d, const StatePlan& sp) {
+  Domain out = d;
+  for (int j : sp.forbidden) {
+    const ActionEvent& act = sp.actions[j];
+    for (int ti : act.transitions) {
+      Transition& tr = out.automata[act.automaton].transitions[ti];
+      tr.guard = Expr{};
+      tr.guard.op = Expr::Op::kFalse;
+      tr.guard_info = ExprInfo{};
+      tr.guard_text = "false";
+    }
+  }
+  return out;
+}
+
 // Solve with every duration the planner's or fixed (no contingent transition left in d).
-std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                                     const Domain* analysis = nullptr);
+
+std::variant<Json, Error> SolveForbidding(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+  const Domain without = WithoutForbidden(d, sp);
+  SolveOptions with = o;
+  with.bounds = LowerBounds(without, sp);
+  return SolveFixed(d, sp, with, &without);
+}
+
+std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                                     const Domain* analysis) {
+  if (!analysis && !sp.forbidden.empty() && !o.bounds && !o.history) return SolveForbidding(d, sp, o);
   if (auto e = ValidateSolveOptions(o)) return *e;
   const auto t0 = Clock::now();
   const Objective objective = o.objective.value_or(sp.objective);
@@ -183,7 +214,7 @@ std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const
   if (o.static_analysis && !o.history) {
     // A proof of infeasibility without search (planner/analyze): every check over-approximates
     // the runs, so a conflict holds whatever the horizon.
-    if (auto conflict = FindStaticConflict(d, sp)) {
+    if (auto conflict = FindStaticConflict(analysis ? *analysis : d, sp)) {
       Core c;
       c.status = "infeasible";
       stats["static_conflict"] = conflict->text;

@@ -99,6 +99,9 @@ TEST(ActionEvents, OrderedAndEitherOrderGiveDifferentOptimaInSearchRescue) {
   EXPECT_EQ(o.makespan, kViaDoor1 + kViaOpenDoor1);
   EXPECT_EQ(o.answer["temporal"]["ThenR2"]["event1"], kViaDoor1);
   EXPECT_EQ(o.answer["temporal"]["ThenR2"]["event2"], kViaDoor1);
+  // The first-plan engine follows orders of actions: its plan came first and passed the verifier.
+  EXPECT_EQ(o.answer["stats"]["first_plan"]["found"], true) << o.answer["stats"];
+  EXPECT_FALSE(o.answer["stats"]["first_plan"].contains("rejected"));
   // The same as a sequence: a later event, at the same time.
   Json seq = {{"actions", RescueActions()}, {"sequence", {"R1Rescues", "R2Starts"}}};
   Solved s = SolveIt("search_rescue", RescueBoth(seq));
@@ -137,6 +140,8 @@ TEST(ActionEvents, ForbiddenRemovesTheWayTheOptimumUsed) {
   Solved f = SolveIt("search_rescue", RescueBoth(c));
   EXPECT_EQ(f.status, "optimal");
   EXPECT_EQ(f.makespan, kViaDoor2);  // door 1 stays shut: both through door 2
+  // The lower bound of the domain without the forbidden transitions (a relaxation) proves it.
+  EXPECT_EQ(f.answer["stats"]["proved_by"], "lower bound") << f.answer["stats"];
   EXPECT_FALSE(Uses(f.answer, "robot1", "openDoor1") || Uses(f.answer, "robot2", "openDoor1"));
 }
 
