@@ -39,7 +39,7 @@ std::vector<Diagnostic> DefaultedStateConstraints(const Json& plan) {
 
 bool GoalHoldsAtStart(const StatePlan& sp, const Domain& d) {
   (void)d;
-  if (!sp.episodes.empty() || !sp.temporals.empty()) return false;
+  if (!sp.episodes.empty() || !sp.temporals.empty() || !sp.orders.empty()) return false;
   if (sp.goal.raw_info.IsChange()) return false;  // a change cannot hold at e[0]
   return Evaluate(sp.goal.raw, [&](const Expr& atom) {
     switch (atom.var_kind) {
@@ -56,7 +56,8 @@ MeaningFindings CheckMeaning(const Json& plan, const StatePlan& sp, const Domain
   MeaningFindings f;
   for (auto& w : DefaultedStateConstraints(plan)) f.doubtful.push_back(std::move(w));
   auto durations = StatedDurations(command);
-  if (!durations.empty() && sp.episodes.empty() && sp.temporals.empty()) {
+  // Orders (contract section 15) carry durations too ("at least 5 seconds later").
+  if (!durations.empty() && sp.episodes.empty() && sp.temporals.empty() && sp.orders.empty()) {
     std::string list;
     for (std::size_t i = 0; i < durations.size() && i < 5; ++i)
       list += (i ? ", \"" : "\"") + Cut(durations[i], 40) + "\"";

@@ -55,6 +55,19 @@ TEST(CheckMeaning, DurationsWithoutConstraintsBlock) {
   EXPECT_TRUE(CheckMeaning(j, Load(j), Presentation(), "Turn the projector on.").blocking.empty());
 }
 
+// An order between actions (contract section 15) carries the command's durations: no block, and a
+// goal that holds at the start with an order is not an empty plan (found by the eval suite).
+TEST(CheckMeaning, AnOrderCarriesDurations) {
+  Json j = Off("projl[i+1]==projOff");
+  j["constraints"] = {{"actions", {{"Connect", {{"automaton", "conn"}, {"command", "connect"}}},
+                                   {"Disconnect", {{"automaton", "conn"}, {"command", "disconnect"}}}}},
+                      {"temporal", {{"Later", {{"event1", "Connect"}, {"event2", "Disconnect"},
+                                               {"ordered", true}, {"lower_bound", 60}}}}}};
+  auto f = CheckMeaning(j, Load(j), Presentation(), "Connect, then disconnect at least 60 seconds later.");
+  EXPECT_TRUE(f.blocking.empty()) << f.blocking[0].message;
+  EXPECT_TRUE(f.doubtful.empty()) << f.doubtful[0].message;
+}
+
 TEST(CheckMeaning, AnEmptyPlanIsADoubt) {
   Json j = Off("projl[i+1]==projOff");
   auto f = CheckMeaning(j, Load(j), Presentation(), "Everything off.");
