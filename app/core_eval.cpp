@@ -68,6 +68,7 @@ struct Solved {
   std::string status;  // optimal | feasible | infeasible | unknown | error
   Json objective;
   Trajectory plan;
+  std::string infeasible_for;  // any_horizon | max_horizon (infeasible only)
 };
 
 Solved SolveOne(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
@@ -79,6 +80,7 @@ Solved SolveOne(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   if (auto* doc = std::get_if<Json>(&r)) {
     s.status = doc->value("status", "unknown");
     s.objective = doc->value("objective", Json());
+    s.infeasible_for = doc->value("infeasible_for", "");
     if ((s.status == "optimal" || s.status == "feasible") && !doc->value("verified", false))
       s.status = "unknown";
   } else {
@@ -97,7 +99,12 @@ std::pair<std::string, std::string> Compare(const Item& item, const StatePlan& c
   auto decided = [](const std::string& s) { return s == "optimal" || s == "infeasible"; };
   if (!decided(ref.status)) return {"unknown", "the reference's solve ended " + ref.status};
   if (!decided(got.status)) return {"unknown", "the translation's solve ended " + got.status};
-  if (ref.status == "infeasible" && got.status == "infeasible") return {"equivalent", ""};
+  if (ref.status == "infeasible" && got.status == "infeasible") {
+    // Infeasible up to the horizon only is not a proof that neither has a plan.
+    if (ref.infeasible_for != "any_horizon" || got.infeasible_for != "any_horizon")
+      return {"unknown", "both are infeasible, but only up to the horizon tried"};
+    return {"equivalent", ""};
+  }
   if (ref.status != got.status)
     return {"not_equivalent", "the reference is " + ref.status + ", the translation " + got.status};
   if (ref.objective != got.objective)

@@ -59,6 +59,13 @@ ProblemInfo Analyze(const Domain& d, const StatePlan& sp) {
     conds(t.event2);
     info.bound_sum += ToTicks(t.lower, info.ticks_per_second);
   }
+  // Orders (contract section 15): their conditions may read commands, and their lower bounds
+  // may make a plan wait (the time bound T must leave room for it).
+  for (const auto& o : sp.orders) {
+    for (const OrderEnd* e : {&o.first, &o.second})
+      if (e->action < 0) conds(e->condition);
+    info.bound_sum += ToTicks(o.lower, info.ticks_per_second);
+  }
   return info;
 }
 

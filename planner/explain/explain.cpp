@@ -442,7 +442,11 @@ class Explainer {
     auto t = Tokens(pointer);
     if (t.size() != 3 || (t[1] != "temporal" && t[1] != "episodes")) return;
     const Json& part = base_["constraints"][t[1]][t[2]];
-    const double lo = part["lower_bound"].get<double>(), hi = part["upper_bound"].get<double>();
+    // An order's bounds may be absent or null (0 and none, contract section 15).
+    const Json& jlo = part.contains("lower_bound") ? part["lower_bound"] : Json();
+    const Json& jhi = part.contains("upper_bound") ? part["upper_bound"] : Json();
+    const double lo = jlo.is_number() ? jlo.get<double>() : 0;
+    const double hi = jhi.is_number() ? jhi.get<double>() : kMaxBound;
     const double res = d_.time_resolution;
     const std::string bp = pointer + (upper ? "/upper_bound" : "/lower_bound");
     auto with = [&](double v) {

@@ -427,11 +427,27 @@ class Deriver {
     } else {
       p2 = PointAt(k2, r2);
       pair(p1, p2, k1, k2);
+      PinBetween(ord, k1, k2, p1, p2, why);
     }
     f_.order_points.emplace_back(p1, p2);
     o.points.insert(o.points.begin(), p1);
     if (!every) o.points.push_back(p2);
     condition_observers_.push_back(o);
+  }
+
+  // A condition end that comes after the other end is the earliest event at which it holds once
+  // the lower bound has passed: an event between the two that moved past the bound would become
+  // it. Every point between them keeps its time from the earlier end (sound, less flexible).
+  void PinBetween(const ::ctb::Order& ord, int k1, int k2, int p1, int p2, const std::string& why) {
+    if (ord.lower <= 0 || p1 < 0 || p2 < 0) return;
+    const bool later_is_condition = k1 <= k2 ? ord.second.action < 0 : ord.first.action < 0;
+    if (!later_is_condition) return;
+    const int from = std::min(k1, k2), to = std::max(k1, k2), anchor = k1 <= k2 ? p1 : p2;
+    for (int k = from + 1; k < to; ++k)
+      for (int p : at_event_[k])
+        if (p != anchor)
+          AddLink(anchor, p, Ms(t_.events[k]) - Ms(t_.events[from]),
+                  Ms(t_.events[k]) - Ms(t_.events[from]), false, why);
   }
 
   void SharedEvents() {

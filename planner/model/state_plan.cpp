@@ -200,7 +200,8 @@ std::optional<StatePlan> LoadStatePlan(const Json& j, const Domain& d, Diagnosti
         ObjectReader tr((*tcs)[name], "/constraints/temporal/" + PointerToken(name), diags);
         if (!tr.valid()) continue;
         tr.CheckKeys({"accepting_event1_constraint", "accepting_event2_constraint", "lower_bound",
-                      "upper_bound"});
+                      "upper_bound", "ordered"});
+        if (tr.Has("ordered")) tr.Bool("ordered", false);  // false here (true makes an order)
         Temporal tc;
         tc.name = name;
         auto e1 = ReadCondition(tr, "accepting_event1_constraint", true, nullptr, scope, diags, names);

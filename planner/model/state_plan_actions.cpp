@@ -329,6 +329,14 @@ void ReadSequence(const Json& list, StatePlan& sp, Diagnostics& diags) {
   }
   for (int i : ids)
     if (i < 0) return;
+  for (std::size_t k = 1; k < ids.size(); ++k)
+    for (std::size_t m = 0; m < k; ++m)
+      if (ids[m] == ids[k]) {
+        diags.Error("/constraints/sequence/" + std::to_string(k),
+                    "action '" + sp.actions[ids[k]].name + "' is already step " + std::to_string(m) +
+                        ": one event cannot come after itself");
+        return;
+      }
   sp.sequence = ids;
   for (std::size_t k = 1; k < ids.size(); ++k) {
     Order o;

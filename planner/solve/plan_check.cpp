@@ -1,5 +1,7 @@
 #include "planner/solve/plan_check.h"
 
+#include <algorithm>
+
 namespace ctb {
 
 const char* PlanCheckName(PlanCheck c) {
@@ -40,6 +42,15 @@ PlanCheck CheckPlanAgainst(const Trajectory& t, const Domain& d, const StatePlan
     return PlanCheck::kInvalid;
   for (std::size_t a = 0; a < d.automata.size(); ++a)
     if (t.locations[a].empty() || t.locations[a][0] != sp.initial[a]) return PlanCheck::kInvalid;
+  // The run is fixed as a history, where forbidden actions are not checked (they may have
+  // happened before a replan): check them here.
+  for (int j : sp.forbidden) {
+    const ActionEvent& act = sp.actions[j];
+    for (const auto& f : t.fired)
+      if (f.automaton == act.automaton &&
+          std::find(act.transitions.begin(), act.transitions.end(), f.transition) != act.transitions.end())
+        return PlanCheck::kInvalid;
+  }
   SolveOptions o = base;
   o.history = HistoryOfRun(t, d.automata.size());
   o.horizon = t.goal_event;

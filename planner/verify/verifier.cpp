@@ -279,7 +279,11 @@ class Replay {
           case EndpointKind::kEpisodeEnd: at.push_back(t_.episodes[p.index].second); break;
           case EndpointKind::kEvent1: at.push_back(t_.temporals[p.index].first); break;
           case EndpointKind::kEvent2: at.push_back(t_.temporals[p.index].second); break;
-          case EndpointKind::kAction: at.push_back(OneEvent(p.index)); break;
+          case EndpointKind::kAction:
+            at.push_back(OneEvent(p.index));
+            if (at.back() < 0)
+              Fail("shared event '" + ev.name + "': action '" + sp_.actions[p.index].name + "' never happens");
+            break;
           case EndpointKind::kOrder1: at.push_back(t_.orders[p.index].first); break;
           case EndpointKind::kOrder2: at.push_back(t_.orders[p.index].second); break;
         }

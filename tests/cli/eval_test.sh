@@ -47,6 +47,20 @@ PY
 CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite "$T/other.json" --prompting cot --json > "$T/out.txt" 2> "$T/err.txt"
 head -1 "$T/out.txt" | grep -q '"verdict":"not_equivalent"' && ok "another goal: not equivalent" || { bad "another goal"; cat "$T/out.txt" "$T/err.txt"; }
 
+# A reference that forbids what the translation's plan does (robot 1 opening door 1): not
+# equivalent (found by a review: the check of one plan against the other state plan fixes the run
+# as a history, where forbidden actions were not read).
+python3 - <<'PY' > "$T/forbid.json"
+import json
+item = json.load(open("config/eval/thesis.json"))[3]
+item["reference"].setdefault("constraints", {})
+item["reference"]["constraints"]["actions"] = {"R1OpensDoor1": {"automaton": "robot1", "command": "openDoor1"}}
+item["reference"]["constraints"]["forbidden"] = ["R1OpensDoor1"]
+print(json.dumps([item]))
+PY
+CTB_LLM_REPLAY=tests/recordings/thesis "$BIN" eval --suite "$T/forbid.json" --prompting cot --json > "$T/out.txt" 2> "$T/err.txt"
+head -1 "$T/out.txt" | grep -q '"verdict":"not_equivalent"' && ok "a forbidden action in the reference: not equivalent" || { bad "forbidden in the reference"; cat "$T/out.txt" "$T/err.txt"; }
+
 # A suite that is not a list, and a reference that does not load: exit 1 with the pointer.
 echo '{"domain": "presentation"}' > "$T/bad.json"
 "$BIN" eval --suite "$T/bad.json" > /dev/null 2> "$T/err.txt"

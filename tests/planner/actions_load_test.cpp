@@ -80,6 +80,8 @@ TEST(ActionLoad, EveryOnlyAsTheLaterEndOfAnOrderedConstraint) {
   EXPECT_TRUE(HasError(either, "/constraints/temporal/T/event2", "\"ordered\": true"));
   auto seq = Errors({{"actions", acts}, {"sequence", {"B", "A"}}});
   EXPECT_TRUE(HasError(seq, "/constraints/sequence/1", "cannot be a step"));
+  auto twice = Errors({{"actions", acts}, {"sequence", {"B", "B"}}});
+  EXPECT_TRUE(HasError(twice, "/constraints/sequence/1", "already step 0"));
   auto shared = Errors({{"actions", acts}, {"event", {{"S", {"A", "B"}}}}});
   EXPECT_TRUE(HasError(shared, "/constraints/event/S/0", "every occurrence"));
 }

@@ -5,6 +5,7 @@
 // for the unordered state plan is refused by the verifier for the ordered one.
 #include <gtest/gtest.h>
 
+#include "planner/explain/explain.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
 #include "test_util.h"
@@ -221,6 +222,46 @@ TEST(ActionEvents, AssemblyArmTwoPicksBOnlyOnceArmOneIsHome) {
   sp["constraints"]["temporal"]["HomeFirst"]["ordered"] = false;
   Solved e = SolveIt("assembly", sp);
   EXPECT_EQ(e.makespan, 4);
+}
+
+// Found by a review: the model's time bound left out the orders' lower bounds (a 400 s gap was
+// "infeasible"), and a command read by an order's condition was not free in the model (a wrong
+// optimum). Robot 2 sets off 400 s after robot 1 opens door 1 and needs 10 s from there through
+// the open door; a command "issued" with nothing to fire is allowed, as the verifier reads it.
+TEST(ActionEvents, ALongGapFitsAndACommandReadByAnOrderIsFree) {
+  Json gap = {{"actions", {{"R1OpensDoor1", {{"automaton", "robot1"}, {"command", "openDoor1"}}}}},
+              {"temporal", {{"Later", {{"event1", "R1OpensDoor1"}, {"ordered", true}, {"lower_bound", 400},
+                                       {"accepting_event2_constraint", "robot2[i+1]==goingToDoor1"}}}}}};
+  Solved g = SolveIt("search_rescue", RescueBoth(gap));
+  EXPECT_EQ(g.status, "optimal");
+  EXPECT_EQ(g.makespan, kToDoor1 + 400 + kViaOpenDoor1);
+  Json cmd = {{"actions", {{"R1OpensDoor1", {{"automaton", "robot1"}, {"command", "openDoor1"}}}}},
+              {"temporal", {{"T", {{"accepting_event1_constraint", "robot2u[i]==openDoor2"},
+                                   {"event2", "R1OpensDoor1"}, {"ordered", true}}}}}};
+  Solved c = SolveIt("search_rescue", RescueBoth(cmd));
+  EXPECT_EQ(c.status, "optimal");
+  EXPECT_EQ(c.makespan, kViaDoor1);
+}
+
+// An order without an upper bound in an infeasible plan: the explanation still comes (it read the
+// missing bound as a number).
+TEST(ActionEvents, AnImpossibleOrderIsExplained) {
+  Json c = MustParse(R"({
+    "actions": {"R1Opens1": {"automaton": "robot1", "command": "openDoor1"},
+                "R2Opens1": {"automaton": "robot2", "command": "openDoor1"},
+                "R2SetsOff": {"automaton": "robot2", "command": "goToDoor1"}},
+    "temporal": {"OpenFirst": {"event1": "R1Opens1", "event2": "R2SetsOff", "ordered": true}},
+    "forbidden": ["R1Opens1", "R2Opens1"]})");
+  std::optional<StatePlan> sp;
+  Solved s = SolveIt("search_rescue", RescueBoth(c), &sp);
+  EXPECT_EQ(s.status, "infeasible");
+  ASSERT_TRUE(sp);
+  SolveOptions so;
+  so.max_horizon = 20;
+  Json e = Explain(ShippedDomain("search_rescue"), *sp, so, ExplainOptions{});
+  EXPECT_FALSE(e.contains("error")) << e;
+  ASSERT_FALSE(e["conflicts"].empty()) << e;
+  EXPECT_EQ(e["status"], "minimal") << e;
 }
 
 TEST(ActionEvents, SharedEventsMayNameAnAction) {

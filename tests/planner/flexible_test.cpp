@@ -100,6 +100,42 @@ TEST(FlexiblePlan, EverySampledScheduleOfEveryShippedExampleIsValid) {
   EXPECT_GT(freed, 0) << "some point can move";
 }
 
+// An order whose second end is a condition (contract section 15) falls on the earliest event at
+// which it holds once the lower bound has passed: a schedule that moved an earlier holding event
+// past the bound would move the order's event (found by a review: 259 of 300 sampled schedules
+// failed). The points between the ends keep their times from the first end.
+TEST(FlexiblePlan, AnOrdersConditionEndKeepsItsEventWhenTimesMove) {
+  const Domain& d = testing::ShippedDomain("search_rescue");
+  Json j = testing::MustParse(R"({
+    "initial_state": {"robot1": "outside", "robot2": "outside", "door1": "closed", "door2": "closed", "door3": "open"},
+    "end_state": {"maintenance_constraint": "true",
+      "goal_constraint": "robot1[i+1]==rescuedPerson1 /\\ robot2[i+1]==rescuedPerson2"},
+    "constraints": {
+      "actions": {"R1OpensDoor1": {"automaton": "robot1", "command": "openDoor1"},
+                  "R2SetsOff": {"automaton": "robot2", "command": "goToDoor1"}},
+      "temporal": {
+        "Same": {"event1": "R1OpensDoor1", "event2": "R2SetsOff", "ordered": true, "upper_bound": 0},
+        "Later": {"event1": "R1OpensDoor1", "ordered": true, "lower_bound": 3,
+          "accepting_event2_constraint": "robot2[i+1]==goingToDoor1 \\/ robot2[i+1]==goingToDoor3"}}},
+    "objective": "makespan"})");
+  Diagnostics diags;
+  auto sp = LoadStatePlan(j, d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  auto plan = PlanOf(d, *sp);
+  ASSERT_TRUE(plan);
+  std::string why;
+  auto f = flexible::DeriveNetwork(*plan, d, *sp, Tps(d), &why);
+  ASSERT_TRUE(f) << why;
+  std::mt19937 rng(11);
+  for (int run = 0; run < 300; ++run) {
+    auto times = flexible::SampleSchedule(*f, rng, /*extremes=*/run % 2 == 1);
+    ASSERT_TRUE(times);
+    auto t = flexible::ScheduleToTrajectory(*f, *plan, *times, &why);
+    ASSERT_TRUE(t) << why;
+    ASSERT_EQ(VerifyTrajectory(*t, d, *sp, Tps(d)), std::vector<std::string>{}) << "run " << run;
+  }
+}
+
 // The presentation team with uncertain durations (contract section 13): the computer boots in
 // 10 to 20 s and the projector warms up in 20 to 40 s, nature's choice.
 Domain UncertainPresentation() {
