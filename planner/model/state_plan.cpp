@@ -25,8 +25,6 @@ std::optional<Objective> ParseObjective(const std::string& s) {
 
 namespace {
 
-constexpr double kMaxBound = 1e7;
-
 std::optional<Condition> ReadCondition(const ObjectReader& r, const std::string& key,
                                        bool required, const char* default_text,
                                        const Scope& scope, Diagnostics& diags,
@@ -55,19 +53,8 @@ bool ReadBounds(const ObjectReader& r, const Domain& d, double& lower, double& u
   auto hi = r.NonNegative("upper_bound", true);
   if (!lo || !hi) return false;
   bool ok = true;
-  for (auto [key, v] : {std::pair{"lower_bound", *lo}, std::pair{"upper_bound", *hi}}) {
-    if (v > kMaxBound) {
-      diags.Error(r.Child(key), "bound beyond 10,000,000 seconds");
-      ok = false;
-    } else {
-      double q = v / d.time_resolution;
-      if (std::fabs(q - std::round(q)) > 1e-9 * std::max(1.0, q)) {
-        diags.Error(r.Child(key), "bound is not a multiple of the domain's time resolution (" +
-                                      Json(d.time_resolution).dump() + " s)");
-        ok = false;
-      }
-    }
-  }
+  for (auto [key, v] : {std::pair{"lower_bound", *lo}, std::pair{"upper_bound", *hi}})
+    ok = actions::CheckBound(r, key, v, d, diags) && ok;
   if (ok && *lo > *hi) {
     diags.Error(r.Child("lower_bound"), "lower_bound " + Json(*lo).dump() +
                                             " is greater than upper_bound " + Json(*hi).dump());

@@ -1,5 +1,6 @@
 #include "planner/model/state_plan_actions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 
@@ -24,8 +25,6 @@ std::vector<const SharedEvent*> StatePlan::AllSharedEvents() const {
 namespace actions {
 
 namespace {
-
-constexpr double kMaxBound = 1e7;
 
 std::string DidYouMean(const std::string& word, const std::vector<std::string>& names) {
   std::string best = NearestName(word, names);
@@ -189,24 +188,10 @@ int ActionAt(const Json& v, const StatePlan& sp, const std::string& pointer, Dia
   return i;
 }
 
-bool OnResolution(double v, const Domain& d) {
-  double q = v / d.time_resolution;
-  return std::fabs(q - std::round(q)) <= 1e-9 * std::max(1.0, q);
-}
-
 // An order's bounds: lower_bound defaults to 0, upper_bound to none (null or absent).
 bool ReadOrderBounds(const ObjectReader& r, const Domain& d, Order& o, Diagnostics& diags) {
   bool ok = true;
-  auto check = [&](const char* key, double v) {
-    if (v > kMaxBound) {
-      diags.Error(r.Child(key), "bound beyond 10,000,000 seconds");
-      ok = false;
-    } else if (!OnResolution(v, d)) {
-      diags.Error(r.Child(key), "bound is not a multiple of the domain's time resolution (" +
-                                    Json(d.time_resolution).dump() + " s)");
-      ok = false;
-    }
-  };
+  auto check = [&](const char* key, double v) { ok = CheckBound(r, key, v, d, diags) && ok; };
   if (r.Has("lower_bound")) {
     auto lo = r.NonNegative("lower_bound", false);
     if (!lo) return false;
@@ -249,6 +234,22 @@ bool ReadEnd(const ObjectReader& r, int n, const StatePlan& sp, const ConditionR
 }
 
 }  // namespace
+
+bool CheckBound(const ObjectReader& reader, const std::string& key, double v, const Domain& d,
+                Diagnostics& diags) {
+  constexpr double kMaxBound = 1e7;
+  if (v > kMaxBound) {
+    diags.Error(reader.Child(key), "bound beyond 10,000,000 seconds");
+    return false;
+  }
+  const double q = v / d.time_resolution;
+  if (std::fabs(q - std::round(q)) > 1e-9 * std::max(1.0, q)) {
+    diags.Error(reader.Child(key), "bound is not a multiple of the domain's time resolution (" +
+                                       Json(d.time_resolution).dump() + " s)");
+    return false;
+  }
+  return true;
+}
 
 bool IsOrderEntry(const Json& entry) {
   if (!entry.is_object()) return false;

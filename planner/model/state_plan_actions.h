@@ -14,6 +14,11 @@ namespace ctb::actions {
 using ConditionReader =
     std::function<std::optional<Condition>(const ObjectReader& reader, const std::string& key)>;
 
+// A bound of an episode, temporal constraint or order: at most 10,000,000 s and a multiple of the
+// domain's time resolution; false with an error at reader.Child(key) otherwise.
+bool CheckBound(const ObjectReader& reader, const std::string& key, double v, const Domain& d,
+                Diagnostics& diags);
+
 // True when a `temporal` entry is an order (names an action, or "ordered": true): orders are
 // kept apart from the thesis' temporal constraints (StatePlan::orders).
 bool IsOrderEntry(const Json& entry);
