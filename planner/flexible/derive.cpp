@@ -377,13 +377,9 @@ class Deriver {
 
   // The points at which action j fires.
   std::vector<int> Firings(int j) const {
-    const ActionEvent& act = sp_.actions[j];
     std::vector<int> out;
     for (int p = 1; p < static_cast<int>(f_.point_event.size()); ++p)
-      if (f_.point_automaton[p] == act.automaton &&
-          std::find(act.transitions.begin(), act.transitions.end(), f_.point_transition[p]) !=
-              act.transitions.end())
-        out.push_back(p);
+      if (sp_.actions[j].Names(f_.point_automaton[p], f_.point_transition[p])) out.push_back(p);
     return out;
   }
 

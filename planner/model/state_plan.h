@@ -53,6 +53,9 @@ struct ActionEvent {
   std::string command;           // as written ("" when given by from/to only)
   std::string from, to;          // as written ("" when not given)
   std::string pointer;           // /constraints/actions/<name>
+
+  // True when transition `transition` of automaton `a` firing is this action.
+  bool Names(int a, int transition) const;
 };
 
 // One end of an order: an action event, or (action < 0) an accepting condition.

@@ -15,6 +15,10 @@ const char* OccurrenceName(Occurrence o) {
   return "first";
 }
 
+bool ActionEvent::Names(int a, int transition) const {
+  return a == automaton && std::find(transitions.begin(), transitions.end(), transition) != transitions.end();
+}
+
 std::vector<const SharedEvent*> StatePlan::AllSharedEvents() const {
   std::vector<const SharedEvent*> out;
   for (const auto& ev : events) out.push_back(&ev);

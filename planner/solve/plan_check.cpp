@@ -1,7 +1,5 @@
 #include "planner/solve/plan_check.h"
 
-#include <algorithm>
-
 namespace ctb {
 
 const char* PlanCheckName(PlanCheck c) {
@@ -23,14 +21,12 @@ std::shared_ptr<History> HistoryOfRun(const Trajectory& t, std::size_t automata)
     h->locations[a].assign(t.locations[a].begin(), t.locations[a].begin() + g + 1);
   for (const auto& f : t.fired)
     if (f.event <= g) h->fired.push_back(f);
-  for (std::size_t a = 0; a < automata; ++a) {
-    long entered = 0;
-    for (int k = 0; k <= g; ++k) {
-      for (const auto& f : t.fired)
-        if (f.event == k && f.automaton == static_cast<int>(a)) entered = t.events[k];
-      h->entry[a][k] = entered;
-    }
-  }
+  // An automaton entered its location at its last transition up to each stage (fired is in event
+  // order): mark the transitions' events, then carry the times forward.
+  for (const auto& f : h->fired) h->entry[f.automaton][f.event] = t.events[f.event];
+  for (std::size_t a = 0; a < automata; ++a)
+    for (int k = 1; k <= g; ++k)
+      if (h->entry[a][k] == 0) h->entry[a][k] = h->entry[a][k - 1];
   h->now = t.events[g];
   return h;
 }
@@ -44,13 +40,9 @@ PlanCheck CheckPlanAgainst(const Trajectory& t, const Domain& d, const StatePlan
     if (t.locations[a].empty() || t.locations[a][0] != sp.initial[a]) return PlanCheck::kInvalid;
   // The run is fixed as a history, where forbidden actions are not checked (they may have
   // happened before a replan): check them here.
-  for (int j : sp.forbidden) {
-    const ActionEvent& act = sp.actions[j];
+  for (int j : sp.forbidden)
     for (const auto& f : t.fired)
-      if (f.automaton == act.automaton &&
-          std::find(act.transitions.begin(), act.transitions.end(), f.transition) != act.transitions.end())
-        return PlanCheck::kInvalid;
-  }
+      if (sp.actions[j].Names(f.automaton, f.transition)) return PlanCheck::kInvalid;
   SolveOptions o = base;
   o.history = HistoryOfRun(t, d.automata.size());
   o.horizon = t.goal_event;

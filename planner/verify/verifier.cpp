@@ -317,12 +317,8 @@ class Replay {
   void ActionRules() {
     firings_.assign(sp_.actions.size(), {});
     for (const auto& f : t_.fired)
-      for (std::size_t j = 0; j < sp_.actions.size(); ++j) {
-        const ActionEvent& act = sp_.actions[j];
-        if (act.automaton == f.automaton &&
-            std::find(act.transitions.begin(), act.transitions.end(), f.transition) != act.transitions.end())
-          firings_[j].push_back(f.event);
-      }
+      for (std::size_t j = 0; j < sp_.actions.size(); ++j)
+        if (sp_.actions[j].Names(f.automaton, f.transition)) firings_[j].push_back(f.event);
     for (auto& v : firings_) std::sort(v.begin(), v.end());
     const int p = t_.history ? t_.history->events() : 0;
     for (int j : sp_.forbidden)
