@@ -20,6 +20,9 @@ void PrintError(const Error& e);
 // (`solve` and `validate` also use 2 for a domain file that does not load.)
 int ExitCodeFor(ErrorCode code);
 
+// PrintError(e), then its exit code (ExitCodeFor).
+int Fail(const Error& e);
+
 // `ctburton validate --domain NAME|PATH FILE`: exit 0 and "valid" (warnings after it) or exit 1
 // and one line per error: "<json pointer>: <offset if any>: <message>".
 Runner AddValidate(CLI::App& app);

@@ -20,11 +20,6 @@ struct EvalCliOptions {
   bool json = false;
 };
 
-int Fail(const Error& e) {
-  PrintError(e);
-  return ExitCodeFor(e.code);
-}
-
 // "7 (88 %)": a count and its share of n.
 std::string Rate(int count, int n) {
   char buf[64];

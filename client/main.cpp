@@ -24,6 +24,11 @@ void PrintError(const Error& e) {
   std::cerr << "error (" << CodeName(e.code) << "): " << ValidUtf8(e.message) << "\n";
   for (const auto& d : e.details) std::cerr << ValidUtf8(d.ToString()) << "\n";
 }
+
+int Fail(const Error& e) {
+  PrintError(e);
+  return ExitCodeFor(e.code);
+}
 }  // namespace ctb::cli
 
 int main(int argc, char** argv) {

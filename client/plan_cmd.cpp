@@ -15,11 +15,6 @@ struct PlanCliOptions {
   long time_limit_ms = 60000;
 };
 
-int Fail(const Error& e) {
-  PrintError(e);
-  return ExitCodeFor(e.code);
-}
-
 int RunPlan(const PlanCliOptions& o) {
   if (!o.objective.empty() && !ParseObjective(o.objective))
     return Fail({ErrorCode::kInvalidInput, "--objective must be cost, makespan or cost_then_makespan", {}});
