@@ -84,12 +84,15 @@ bool Uses(const Json& answer, const std::string& automaton, const std::string& c
   return false;
 }
 
+// Robot 1 reaches person 1 (R1Rescues) and robot 2 sets off to door 1 (R2Starts), in this order
+// or in either.
+Json ThenR2(bool ordered) {
+  return {{"actions", RescueActions()},
+          {"temporal", {{"ThenR2", {{"event1", "R1Rescues"}, {"event2", "R2Starts"}, {"ordered", ordered}}}}}};
+}
+
 TEST(ActionEvents, OrderedAndEitherOrderGiveDifferentOptimaInSearchRescue) {
-  Json ordered = {{"actions", RescueActions()},
-                  {"temporal", {{"ThenR2", {{"event1", "R1Rescues"}, {"event2", "R2Starts"},
-                                            {"ordered", true}}}}}};
-  Json either = ordered;
-  either["temporal"]["ThenR2"]["ordered"] = false;
+  const Json ordered = ThenR2(true), either = ThenR2(false);
   // Either order: both robots go through door 1 at once, robot 1 opening it.
   Solved e = SolveIt("search_rescue", RescueBoth(either));
   EXPECT_EQ(e.status, "optimal");
@@ -111,11 +114,7 @@ TEST(ActionEvents, OrderedAndEitherOrderGiveDifferentOptimaInSearchRescue) {
 }
 
 TEST(ActionEvents, TheVerifierRefusesAPlanThatBreaksTheOrder) {
-  Json ordered = {{"actions", RescueActions()},
-                  {"temporal", {{"ThenR2", {{"event1", "R1Rescues"}, {"event2", "R2Starts"},
-                                            {"ordered", true}}}}}};
-  Json either = ordered;
-  either["temporal"]["ThenR2"]["ordered"] = false;
+  const Json ordered = ThenR2(true), either = ThenR2(false);
   Solved e = SolveIt("search_rescue", RescueBoth(either));
   ASSERT_EQ(e.status, "optimal");
   const Domain& d = ShippedDomain("search_rescue");
