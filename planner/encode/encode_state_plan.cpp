@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "planner/encode/emit.h"
+#include "planner/model/plan_cut.h"
 
 namespace ctb::encode {
 
@@ -253,6 +254,94 @@ void EmitEndState(const Context& c) {
   }
 }
 
+namespace {
+
+// The model's variable for a mark's event (the same names as EmitSharedEvents).
+std::string MarkVar(const CutMark& m) {
+  const std::string i = std::to_string(m.index + 1);
+  switch (m.endpoint) {
+    case EndpointKind::kEpisodeStart: return "EP_S[" + i + "]";
+    case EndpointKind::kEpisodeEnd: return "EP_E[" + i + "]";
+    case EndpointKind::kEvent1: return "TC_1[" + i + "]";
+    case EndpointKind::kEvent2: return "TC_2[" + i + "]";
+    case EndpointKind::kAction: return "AK[" + i + "]";
+    case EndpointKind::kOrder1: return "O_1[" + i + "]";
+    case EndpointKind::kOrder2: return "O_2[" + i + "]";
+  }
+  return "0";
+}
+
+// "not (every literal)" for one assignment of the loop classes (plan_cut.h): each point's
+// transition fires at its class's event, the marks, orders and neighbours are as in the cut.
+std::string CutConstraint(const Context& c, const PlanCut& cut) {
+  const CutShape s = ShapeOf(cut);
+  std::vector<std::string> ev(s.pins.size());
+  for (int k : s.order) {
+    const CutPin& p = s.pins[k];
+    const std::string A = std::to_string(p.automaton + 1);
+    switch (p.kind) {
+      case CutPin::Kind::kLoop: ev[k] = "k" + std::to_string(k); break;
+      case CutPin::Kind::kOrigin: ev[k] = "0"; break;
+      case CutPin::Kind::kMark: ev[k] = MarkVar(cut.marks[p.mark]); break;
+      case CutPin::Kind::kGoal: ev[k] = "g"; break;
+      case CutPin::Kind::kAfter: ev[k] = "NXT[" + A + "," + ev[p.from_class] + "]"; break;
+      case CutPin::Kind::kBefore: ev[k] = "PREV[" + A + ",max(" + ev[p.from_class] + ",1)-1]"; break;
+    }
+  }
+  auto E = [&](int point) { return ev[s.class_of[point]]; };
+  std::vector<std::string> lits;
+  for (std::size_t p = 0; p < cut.points.size(); ++p) {
+    const CutPoint& pt = cut.points[p];
+    const std::string e = E(static_cast<int>(p));
+    if (pt.automaton < 0) {
+      lits.push_back(e + " = 0");
+      continue;
+    }
+    lits.push_back(e + " >= 1 /\\ " + e + " <= H /\\ X[" + std::to_string(pt.automaton + 1) + ",max(min(" +
+                   e + ",H),1)-1] = " + std::to_string(c.info.transitions_of[pt.automaton][pt.transition]));
+  }
+  for (const CutMark& m : cut.marks)
+    lits.push_back(E(m.point) + " = " + (m.kind == CutMark::Kind::kGoal ? "g" : MarkVar(m)));
+  for (auto [x, y] : cut.before) lits.push_back(E(x) + " < " + E(y));
+  for (auto [x, b] : cut.quiet)
+    lits.push_back("X[" + std::to_string(b + 1) + ",max(min(" + E(x) + ",H),1)-1] = 0");
+  for (auto [x, y] : cut.next) {
+    const std::string A = std::to_string(cut.points[y].automaton + 1);
+    lits.push_back(E(y) + " = NXT[" + A + "," + E(x) + "]");
+  }
+  for (int y : cut.first) {
+    const std::string A = std::to_string(cut.points[y].automaton + 1);
+    lits.push_back("PREV[" + A + ",max(" + E(y) + ",1)-1] = 0");
+  }
+  for (int x : cut.last) {
+    const std::string A = std::to_string(cut.points[x].automaton + 1);
+    lits.push_back("NXT[" + A + "," + E(x) + "] = H+1");
+  }
+  std::string conj;
+  for (const auto& l : lits) conj += (conj.empty() ? "(" : " /\\ (") + l + ")";
+  std::string loops;
+  for (int k : s.loops) loops += (loops.empty() ? "" : ", ") + std::string("k") + std::to_string(k) + " in 1..H";
+  if (loops.empty()) return "not (" + conj + ")";
+  return "forall(" + loops + ")(not (" + conj + "))";
+}
+
+}  // namespace
+
+// Cuts of the conflict-directed search among plans (state_plan.h PlanCut, plan_cut.h). PREV[a,k]:
+// the event of a's last transition at or before event k (0: none); NXT[a,k]: of its first after
+// k (H+1: none).
+void EmitCuts(const Context& c) {
+  if (c.sp.cuts.empty()) return;
+  std::string& o = c.out;
+  o += "% cuts of the search among plans (controllability conflicts)\n";
+  o += "array[1..NA, 0..H] of var 0..H: PREV;\n";
+  o += "array[1..NA, 0..H] of var 1..H+1: NXT;\n";
+  o += "constraint forall(a in 1..NA)(PREV[a,0] = 0 /\\ NXT[a,H] = H+1);\n";
+  o += "constraint forall(a in 1..NA, k in 1..H)(PREV[a,k] = if X[a,k-1] > 0 then k else PREV[a,k-1] endif);\n";
+  o += "constraint forall(a in 1..NA, k in 0..H-1)(NXT[a,k] = if X[a,k] > 0 then k+1 else NXT[a,k+1] endif);\n";
+  for (const PlanCut& cut : c.sp.cuts) o += "constraint " + CutConstraint(c, cut) + ";\n";
+}
+
 void EmitStatePlan(const Context& c) {
   EmitEpisodes(c);
   EmitTemporals(c);
@@ -260,6 +349,7 @@ void EmitStatePlan(const Context& c) {
   EmitOrders(c);
   EmitSharedEvents(c);
   EmitEndState(c);
+  EmitCuts(c);
   c.out += "\n";
 }
 

@@ -560,10 +560,66 @@ Json Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so, const
   }
 }
 
+namespace {
+
+// The pointer a conflict link's `why` names: the state plan's part, or the part a tie of the
+// derivation serves ("one event in the plan, for /end_state/goal_constraint"); "" for a duration.
+std::string WhyPointer(const std::string& why) {
+  if (why.rfind("/", 0) == 0) return why;
+  const auto at = why.find(", for /");
+  if (at != std::string::npos && why.rfind("one event in the plan", 0) == 0) return why.substr(at + 6);
+  const auto kept = why.find("order kept for /");
+  if (kept != std::string::npos) return why.substr(kept + 15);
+  return "";
+}
+
+// The explanation of an answer that no plan of the asked kind of controllability exists
+// (solve/controllable.cpp): each conflict the search learned, in words, and the relaxations it
+// checked by planning again.
+Json ControllabilityExplanation(const Json& c) {
+  Json conflicts = Json::array();
+  std::set<std::string> texts;
+  for (const Json& links : c.value("conflicts", Json::array())) {
+    std::vector<std::string> durations, rules;
+    std::set<std::string> pointers;
+    for (const Json& l : links) {
+      const std::string why = l.value("why", "");
+      if (l.value("kind", "") == "contingent") {
+        durations.push_back(why.substr(why.rfind("duration ", 0) == 0 ? 9 : 0) + " (" +
+                            l["lb"].dump() + " to " + l["ub"].dump() + " s)");
+        continue;
+      }
+      const std::string p = WhyPointer(why);
+      if (!p.empty() && pointers.insert(p).second) rules.push_back(PartName(p));
+    }
+    std::string text = "Some outcome of the uncertain durations";
+    for (std::size_t i = 0; i < durations.size(); ++i)
+      text += (i == 0 ? " of " : i + 1 == durations.size() ? " and " : ", ") + durations[i];
+    text += " breaks ";
+    if (rules.empty()) text += "the order the plan needs";
+    for (std::size_t i = 0; i < rules.size(); ++i)
+      text += (i == 0 ? "" : i + 1 == rules.size() ? " and " : ", ") + rules[i];
+    text += ", whatever is decided as they happen.";
+    if (!texts.insert(text).second) continue;
+    conflicts.push_back({{"text", text}, {"constraints", Json(std::vector<std::string>(pointers.begin(), pointers.end()))}});
+  }
+  Json relaxations = Json::array();
+  for (const Json& r : c.value("relaxations", Json::array()))
+    relaxations.push_back({{"text", r.value("text", "")}, {"changes", r.value("changes", Json::array())}});
+  return {{"status", "infeasible"}, {"route", "controllability"}, {"conflicts", conflicts},
+          {"relaxations", relaxations}};
+}
+
+}  // namespace
+
 void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so, Json& answer) {
   if (!answer.is_object()) return;
   answer["state_plan_summary"] = SummarizeStatePlan(d, sp);
-  if (answer.value("status", "") == "infeasible") {
+  const Json c = answer.value("controllability", Json::object());
+  if (answer.value("status", "") == "infeasible" &&
+      c.value("search", Json::object()).value("proven", false)) {
+    answer["explanation"] = ControllabilityExplanation(c);
+  } else if (answer.value("status", "") == "infeasible") {
     ExplainOptions eo;
     eo.time_limit_ms = so.time_limit_ms;
     answer["explanation"] = Explain(d, sp, so, eo);

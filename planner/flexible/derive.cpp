@@ -108,10 +108,38 @@ class Deriver {
     }
   }
 
-  void AddLink(int from, int to, Ticks lb, std::optional<Ticks> ub, bool contingent,
+  // The origin of the links added while it lives (cut.h restates them of other plans).
+  struct Source {
+    Source(Deriver* d, LinkOrigin o) : d_(d), saved_(d->origin_) { d_->origin_ = std::move(o); }
+    ~Source() { d_->origin_ = std::move(saved_); }
+    Deriver* d_;
+    LinkOrigin saved_;
+  };
+  static LinkOrigin Of(LinkSource s, std::optional<CutMark> from = std::nullopt,
+                       std::optional<CutMark> to = std::nullopt) {
+    LinkOrigin o;
+    o.source = s;
+    o.from_mark = from;
+    o.to_mark = to;
+    return o;
+  }
+  static CutMark MarkOf(EndpointKind k, int index) {
+    CutMark m;
+    m.endpoint = k;
+    m.index = index;
+    return m;
+  }
+  static CutMark GoalMark() {
+    CutMark m;
+    m.kind = CutMark::Kind::kGoal;
+    return m;
+  }
+
+  bool AddLink(int from, int to, Ticks lb, std::optional<Ticks> ub, bool contingent,
                std::string why) {
     auto key = std::make_tuple(from, to, lb, ub.value_or(-1), ub.has_value(), contingent);
-    if (!seen_.insert(key).second) return;
+    if (!seen_.insert(key).second) return false;
+    f_.origins.push_back(origin_);
     Link l;
     l.from = from;
     l.to = to;
@@ -120,6 +148,7 @@ class Deriver {
     l.contingent = contingent;
     l.why = std::move(why);
     f_.net.links.push_back(std::move(l));
+    return true;
   }
 
   // Two points the plan had at one event stay at one event; `why` says what needs it (a tie is the
@@ -137,7 +166,7 @@ class Deriver {
     Ticks lb = 0;
     if (y > 0 && Automatic(y) && t_.events[f_.point_event[x]] < t_.events[f_.point_event[y]])
       lb = ms_per_tick_;
-    AddLink(x, y, lb, std::nullopt, false, why);
+    if (AddLink(x, y, lb, std::nullopt, false, why) && lb > 0) f_.origins.back().strict_tick = true;
     f_.before.emplace_back(x, y);
   }
 
@@ -184,6 +213,7 @@ class Deriver {
         const Ticks lo = MsOf(tr.duration.lo);
         const std::optional<Ticks> hi =
             tr.duration.hi ? std::optional(MsOf(*tr.duration.hi)) : std::nullopt;
+        Source src(this, Of(LinkSource::kDuration));
         AddLink(entry, exit, lo, hi, tr.contingent,
                 "duration " + TransitionName(a, f_.point_transition[exit]));
       }
@@ -271,8 +301,10 @@ class Deriver {
     auto hist = [&](int x) { return x == 0 || f_.point_event[x] <= p; };
     auto time = [&](int x) { return x == 0 ? Ticks{0} : Ms(t_.events[f_.point_event[x]]); };
     std::vector<Link> kept;
+    std::vector<LinkOrigin> kept_origins;
     std::set<int> pin;
-    for (const Link& l : f_.net.links) {
+    for (std::size_t li = 0; li < f_.net.links.size(); ++li) {
+      const Link& l = f_.net.links[li];
       if (hist(l.from) && hist(l.to)) continue;
       if (hist(l.from) != hist(l.to)) {
         const Ticks dt = time(l.to) - time(l.from);
@@ -282,8 +314,10 @@ class Deriver {
         }
       }
       kept.push_back(l);
+      kept_origins.push_back(f_.origins[li]);
     }
     f_.net.links = std::move(kept);
+    f_.origins = std::move(kept_origins);
     std::set<int> contingent_ends;
     for (const Link& l : f_.net.links)
       if (l.contingent) contingent_ends.insert(l.to);
@@ -298,8 +332,15 @@ class Deriver {
         l.ub = l.lb;
         l.why = hist(xi) ? "executed" : "pinned after the history";
         f_.net.links.push_back(std::move(l));
+        f_.origins.emplace_back();
       }
     }
+  }
+
+  // A mark where nothing its condition reads moves (PointAt's fallback), for the cuts (cut.h).
+  void NoteFallback(int point, const CutMark& mark, const std::set<int>& reads) {
+    if (point <= 0 || reads.count(f_.point_automaton[point])) return;
+    f_.fallback_marks.push_back({point, mark, std::vector<int>(reads.begin(), reads.end())});
   }
 
   static void AddReads(const Condition& c, std::set<int>& out) {
@@ -318,6 +359,9 @@ class Deriver {
       AddReads(ep.state, ep_reads.back());
       f_.episode_points.emplace_back(PointAt(t_.episodes[p].first, ep_reads.back()),
                                      PointAt(t_.episodes[p].second, ep_reads.back()));
+      const int pi = static_cast<int>(p);
+      NoteFallback(f_.episode_points.back().first, MarkOf(EndpointKind::kEpisodeStart, pi), ep_reads.back());
+      NoteFallback(f_.episode_points.back().second, MarkOf(EndpointKind::kEpisodeEnd, pi), ep_reads.back());
     }
     for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
       const Temporal& tc = sp_.temporals[q];
@@ -326,6 +370,9 @@ class Deriver {
       AddReads(tc.event2, tc_reads.back());
       f_.temporal_points.emplace_back(PointAt(t_.temporals[q].first, tc_reads.back()),
                                       PointAt(t_.temporals[q].second, tc_reads.back()));
+      const int qi = static_cast<int>(q);
+      NoteFallback(f_.temporal_points.back().first, MarkOf(EndpointKind::kEvent1, qi), tc_reads.back());
+      NoteFallback(f_.temporal_points.back().second, MarkOf(EndpointKind::kEvent2, qi), tc_reads.back());
     }
     for (std::size_t p = 0; p < sp_.episodes.size(); ++p) EpisodeLinks(p, ep_reads[p]);
     for (std::size_t q = 0; q < sp_.temporals.size(); ++q) TemporalLinks(q, tc_reads[q]);
@@ -345,6 +392,8 @@ class Deriver {
     Observer o;
     o.automata = reads;
     o.why = "/constraints/episodes/" + PointerToken(ep.name);
+    Source src(this, Of(LinkSource::kStatePlan, MarkOf(EndpointKind::kEpisodeStart, static_cast<int>(p)),
+                        MarkOf(EndpointKind::kEpisodeEnd, static_cast<int>(p))));
     AddLink(s, e, MsOf(ep.lower), MsOf(ep.upper), false, o.why);
     o.points = {s, e};
     condition_observers_.push_back(o);
@@ -358,11 +407,18 @@ class Deriver {
     o.automata = reads;
     o.why = "/constraints/temporal/" + PointerToken(tc.name);
     auto [k1, k2] = t_.temporals[q];
+    const CutMark m1 = MarkOf(EndpointKind::kEvent1, static_cast<int>(q)),
+                  m2 = MarkOf(EndpointKind::kEvent2, static_cast<int>(q));
     if (p1 == p2) {  // both at one point: nothing apart; a link keeps the pointer in the network
+      Source src(this, Of(LinkSource::kTrivial));
       if (p1 > 0) AddLink(0, p1, 0, std::nullopt, false, o.why);
+    } else if (k1 <= k2) {
+      Source src(this, Of(LinkSource::kStatePlan, m1, m2));
+      AddLink(p1, p2, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
+    } else {
+      Source src(this, Of(LinkSource::kStatePlan, m2, m1));
+      AddLink(p2, p1, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     }
-    else if (k1 <= k2) AddLink(p1, p2, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
-    else AddLink(p2, p1, MsOf(tc.lower), MsOf(tc.upper), false, o.why);
     o.points = {p1, p2};
     condition_observers_.push_back(o);
   }
@@ -391,6 +447,7 @@ class Deriver {
     auto [k1, k2] = t_.orders[q];
     std::set<int> r1 = EndReads(ord.first), r2 = EndReads(ord.second);
     const int p1 = PointAt(k1, r1);
+    NoteFallback(p1, MarkOf(EndpointKind::kOrder1, static_cast<int>(q)), r1);
     const bool every = ord.second.action >= 0 &&
                        sp_.actions[ord.second.action].occurrence == Occurrence::kEvery;
     const Ticks lb = MsOf(ord.lower);
@@ -399,16 +456,30 @@ class Deriver {
     o.automata = r1;
     o.automata.insert(r2.begin(), r2.end());
     o.why = why;
+    const int qi = static_cast<int>(q);
+    // The marks of a pair's ends: the first end is O_1; the second O_2 (a firing of `every` is
+    // one by its transition alone).
     auto pair = [&](int a, int b, int ka, int kb) {
       if (a < 0 || b < 0) return;
+      const std::optional<CutMark> ma = MarkOf(EndpointKind::kOrder1, qi);
+      const std::optional<CutMark> mb =
+          every ? std::nullopt : std::optional(MarkOf(EndpointKind::kOrder2, qi));
       if (ka == kb) {
-        Tie(a, b, why);
+        {
+          Source src(this, Of(LinkSource::kKept, ma, mb));
+          Tie(a, b, why);
+        }
+        Source src(this, Of(LinkSource::kTrivial));
         if (a == b && a > 0) AddLink(0, a, 0, std::nullopt, false, why);  // keeps the pointer
       } else if (ka < kb) {
+        Source src(this, Of(LinkSource::kKept, ma, mb));
         Order(a, b, why);
+        origin_.source = LinkSource::kStatePlan;
         AddLink(a, b, lb, ub, false, why);
       } else {
+        Source src(this, Of(LinkSource::kKept, mb, ma));
         Order(b, a, why);
+        origin_.source = LinkSource::kStatePlan;
         AddLink(b, a, lb, ub, false, why);
       }
     };
@@ -419,9 +490,11 @@ class Deriver {
         o.points.push_back(p);
         if (f_.point_event[p] == k2) p2 = p;
       }
+      Source src(this, Of(LinkSource::kTrivial));
       if (o.points.empty() && p1 > 0) AddLink(0, p1, 0, std::nullopt, false, why);
     } else {
       p2 = PointAt(k2, r2);
+      NoteFallback(p2, MarkOf(EndpointKind::kOrder2, static_cast<int>(q)), r2);
       pair(p1, p2, k1, k2);
       PinBetween(ord, k1, k2, p1, p2, why);
     }
@@ -472,9 +545,15 @@ class Deriver {
         const bool first = e.kind == EndpointKind::kEpisodeStart || e.kind == EndpointKind::kEvent1;
         pts.push_back(first ? pr.first : pr.second);
       }
+      auto mark = [](const Endpoint& e) {
+        const EndpointKind k = e.kind;
+        return MarkOf(k, e.index);
+      };
       for (std::size_t i = 1; i < pts.size(); ++i)
-        if (pts[0] >= 0 && pts[i] >= 0)
+        if (pts[0] >= 0 && pts[i] >= 0) {
+          Source src(this, Of(LinkSource::kKept, mark(ev.endpoints[0]), mark(ev.endpoints[i])));
           Tie(pts[0], pts[i], "/constraints/event/" + PointerToken(ev.name));
+        }
     }
   }
 
@@ -492,7 +571,11 @@ class Deriver {
     }
     const auto& goal_points = at_event_[g];
     f_.goal_point = goal_points.front();
-    for (std::size_t i = 1; i < goal_points.size(); ++i) Tie(goal_points[0], goal_points[i], why);
+    {
+      Source src(this, Of(LinkSource::kKept, GoalMark(), GoalMark()));
+      for (std::size_t i = 1; i < goal_points.size(); ++i) Tie(goal_points[0], goal_points[i], why);
+    }
+    Source src(this, Of(LinkSource::kGoalLast, std::nullopt, GoalMark()));
     for (const auto& chain : chain_)
       if (!chain.empty() && f_.point_event[chain.back()] < g) Order(chain.back(), f_.goal_point, why);
     for (const auto& [s, e] : f_.episode_points)
@@ -511,10 +594,13 @@ class Deriver {
   void Orders() {
     if (fallback_mark_ && !f_.rigid) {
       f_.rigid = true;
+      f_.rigid_by_plan = true;
       f_.rigid_reason = "a mark of the state plan falls where nothing its condition reads moves";
     }
     std::vector<Observer> observers = condition_observers_;
     const int na = static_cast<int>(d_.automata.size());
+    for (int a = 0; a < na; ++a) observers.push_back(GuardObserver(a));
+    for (const auto& o : observers) f_.observers.emplace_back(o.automata.begin(), o.automata.end());
     if (f_.rigid) {
       Observer all;
       for (int a = 0; a < na; ++a) all.automata.insert(a);
@@ -522,17 +608,18 @@ class Deriver {
       for (auto& o : observers) all.points.insert(all.points.end(), o.points.begin(), o.points.end());
       observers = {all};
     }
-    for (int a = 0; a < na && !f_.rigid; ++a) {
-      Observer o;
-      o.automata.insert(a);
-      for (const auto& tr : d_.automata[a].transitions) {
-        o.automata.insert(tr.guard_info.locations_read.begin(), tr.guard_info.locations_read.end());
-        o.automata.insert(tr.guard_info.commands_read.begin(), tr.guard_info.commands_read.end());
-      }
-      o.why = "guards of " + d_.automata[a].name + " read these";
-      observers.push_back(o);
-    }
     for (const Observer& o : observers) Keep(o);
+  }
+
+  Observer GuardObserver(int a) const {
+    Observer o;
+    o.automata.insert(a);
+    for (const auto& tr : d_.automata[a].transitions) {
+      o.automata.insert(tr.guard_info.locations_read.begin(), tr.guard_info.locations_read.end());
+      o.automata.insert(tr.guard_info.commands_read.begin(), tr.guard_info.commands_read.end());
+    }
+    o.why = "guards of " + d_.automata[a].name + " read these";
+    return o;
   }
 
   void Keep(const Observer& o) {
@@ -546,9 +633,28 @@ class Deriver {
     for (std::size_t i = 1; i < pts.size(); ++i) {
       const int x = pts[i - 1], y = pts[i];
       if (x == 0) continue;
+      Source src(this, Of(LinkSource::kKept, Membership(o, x), Membership(o, y)));
       if (f_.point_event[x] == f_.point_event[y]) Tie(x, y, o.why);
       else Order(x, y, "order kept for " + o.why);
     }
+  }
+
+  // Why point x is among observer o's: its automaton (no mark needed), or the state-plan mark it
+  // is (only the goal's observer has marks of automata it does not read).
+  std::optional<CutMark> Membership(const Observer& o, int x) const {
+    if (o.automata.count(f_.point_automaton[x])) return std::nullopt;
+    if (x == f_.goal_point) return GoalMark();
+    for (std::size_t p = 0; p < f_.episode_points.size(); ++p)
+      if (f_.episode_points[p].second == x) return MarkOf(EndpointKind::kEpisodeEnd, static_cast<int>(p));
+    for (std::size_t q = 0; q < f_.temporal_points.size(); ++q) {
+      if (f_.temporal_points[q].first == x) return MarkOf(EndpointKind::kEvent1, static_cast<int>(q));
+      if (f_.temporal_points[q].second == x) return MarkOf(EndpointKind::kEvent2, static_cast<int>(q));
+    }
+    for (std::size_t q = 0; q < f_.order_points.size(); ++q) {
+      if (f_.order_points[q].first == x) return MarkOf(EndpointKind::kOrder1, static_cast<int>(q));
+      if (f_.order_points[q].second == x) return MarkOf(EndpointKind::kOrder2, static_cast<int>(q));
+    }
+    return MarkOf(EndpointKind::kEpisodeStart, -1);  // not reached; cut.cpp refuses index -1
   }
 
   const Trajectory& t_;
@@ -561,6 +667,8 @@ class Deriver {
   std::vector<std::vector<int>> chain_;     // points per automaton, in event order
   std::vector<Observer> condition_observers_;
   mutable bool fallback_mark_ = false;
+
+  LinkOrigin origin_;  // of the links being added (Source)
   std::set<std::tuple<int, int, Ticks, Ticks, bool, bool>> seen_;
 };
 

@@ -35,8 +35,27 @@
 
 namespace ctb::flexible {
 
+// Why a link is in the network, in the terms the conflict-directed search (cut.h) states of
+// another plan; parallel to `net.links`.
+enum class LinkSource {
+  kOther,      // not restated (due, overstay, pins): a conflict naming it makes no cut
+  kTrivial,    // holds in every plan (a link from the origin that only keeps a pointer)
+  kDuration,   // a stay: from the automaton's previous transition (or the origin) to this one
+  kKept,       // an observer's order or tie: the plan's event order of its two points
+  kStatePlan,  // an episode's, temporal constraint's or order's bounds between its marks
+  kGoalLast,   // an automaton's last transition, no later than the goal
+};
+struct LinkOrigin {
+  LinkSource source = LinkSource::kOther;
+  // The state plan's marks its ends must be for the link to be in another plan's network (their
+  // `point` fields are unused here).
+  std::optional<CutMark> from_mark, to_mark;
+  bool strict_tick = false;  // its lb is the one tick an automatic transition's order adds
+};
+
 struct FlexiblePlan {
   network::Network net;                  // point 0 is the origin
+  std::vector<LinkOrigin> origins;       // per link of net
   std::vector<int> point_event;          // the plan event of each point (origin: 0)
   std::vector<int> point_automaton;      // -1 for the origin
   std::vector<int> point_transition;     // index within the automaton's transitions; -1 origin
@@ -53,6 +72,18 @@ struct FlexiblePlan {
   std::vector<std::pair<int, int>> order_points;     // (event1, event2) per order
   int goal_point = 0;
   bool rigid = false;  // the fallback above was taken
+  bool rigid_by_plan = false;  // ... because of where this plan's marks fall (another may not)
+  // The automata of each observer the derivation has without rigid order: a rigid order kept
+  // between two points holds in another plan's network when one of these reads both.
+  std::vector<std::vector<int>> observers;
+  // Points that mark a state-plan event although nothing the condition reads moves there (the
+  // cause of rigid_by_plan): another plan's mark at the same event need not be tied to them.
+  struct FallbackMark {
+    int point = 0;
+    CutMark mark;            // which event of the state plan it marks
+    std::vector<int> reads;  // the automata its condition reads (none of them moves there)
+  };
+  std::vector<FallbackMark> fallback_marks;
   long tps = 1;        // the domain's ticks per second
   std::string rigid_reason;
 };

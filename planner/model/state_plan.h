@@ -97,6 +97,33 @@ struct SharedEvent {
   std::vector<Endpoint> endpoints;
 };
 
+// A cut of the conflict-directed search among plans (planner/flexible/cut.h, solve/
+// controllable.cpp): no plan may contain this pattern. Never read from JSON: the search adds cuts
+// to its own copy of a state plan, and only the MiniZinc encoding reads them (the engines that do
+// not decline, as for action rules). A plan contains the pattern when its transitions can be
+// assigned to the points so that every literal holds.
+struct CutPoint {
+  int automaton = -1;   // -1: the origin (event 0)
+  int transition = -1;  // index within the automaton's transitions
+};
+struct CutMark {
+  enum class Kind { kEndpoint, kGoal };
+  Kind kind = Kind::kEndpoint;
+  EndpointKind endpoint = EndpointKind::kEpisodeStart;  // kEndpoint: EP_S, EP_E, TC_1, TC_2, AK, O_1, O_2
+  int index = 0;
+  int point = 0;  // the mark's event is this point's
+};
+struct PlanCut {
+  std::vector<CutPoint> points;
+  std::vector<std::pair<int, int>> same;    // one event
+  std::vector<std::pair<int, int>> before;  // first at an earlier event
+  std::vector<std::pair<int, int>> next;    // second is its automaton's very next transition
+  std::vector<int> first;                   // its automaton's first transition
+  std::vector<int> last;                    // its automaton's last transition
+  std::vector<CutMark> marks;
+  std::vector<std::pair<int, int>> quiet;   // (point, automaton): that automaton does not move there
+};
+
 struct StatePlan {
   std::vector<int> initial;  // location index per automaton of the domain
   Condition maintenance;
@@ -112,10 +139,14 @@ struct StatePlan {
   std::vector<int> sequence;   // indices into actions, as written (its steps are in orders)
   std::vector<int> forbidden;  // indices into actions: none of their transitions may fire
   Objective objective = Objective::kCost;
+  std::vector<PlanCut> cuts;  // internal: the conflict-directed search's (never from JSON)
 
   // True when the state plan orders or forbids actions (the engines that do not read these
   // decline: the first-plan engine, z3, the split into parts, symmetry breaking).
-  bool HasActionRules() const { return !orders.empty() || !forbidden.empty() || !action_events.empty(); }
+  // Cuts (above) count as such rules.
+  bool HasActionRules() const {
+    return !orders.empty() || !forbidden.empty() || !action_events.empty() || !cuts.empty();
+  }
   // Both lists of shared events, `events` first.
   std::vector<const SharedEvent*> AllSharedEvents() const;
 };

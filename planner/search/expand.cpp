@@ -66,6 +66,8 @@ Expander::Expander(const Domain& d, const StatePlan& sp, long ticks_per_second)
   // the second end); forbidden actions are never taken.
   if (declined_.empty() && !sp.action_events.empty())
     declined_ = "the state plan puts actions in shared events";
+  if (declined_.empty() && !sp.cuts.empty())
+    declined_ = "the search among plans has cut some (controllability conflicts)";
   for (const auto& o : sp.orders) {
     if (!declined_.empty()) break;
     for (const OrderEnd* e : {&o.first, &o.second})

@@ -30,7 +30,8 @@ Json ConflictJson(const network::Network& net, const std::vector<int>& links) {
 // before it is offered: for a requirement of the state plan, the least later upper bound that
 // makes the network dynamically controllable; for a contingent duration, the widest range
 // [lo, x] (its longest outcome earlier) that does. Whole seconds; monotone, so a binary search.
-Json Relaxations(const network::Network& net, const std::vector<int>& conflict) {
+Json Relaxations(const flexible::FlexiblePlan& f, const Domain& d, const std::vector<int>& conflict) {
+  const network::Network& net = f.net;
   using network::Ticks;
   const Ticks second = network::kTicksPerSecond;
   Ticks spread = second;
@@ -63,8 +64,15 @@ Json Relaxations(const network::Network& net, const std::vector<int>& conflict) 
       return yes;
     };
     auto offer = [&](const char* kind, Json from, Json to, const std::string& text) {
-      out.push_back({{"why", l.why}, {"kind", kind}, {"from", std::move(from)},
-                     {"to", std::move(to)}, {"text", l.why + ": " + text}});
+      Json r = {{"why", l.why}, {"kind", kind}, {"from", std::move(from)},
+                {"to", std::move(to)}, {"text", l.why + ": " + text}};
+      if (l.contingent) {  // which transition's duration
+        const Automaton& a = d.automata[f.point_automaton[l.to]];
+        const Transition& tr = a.transitions[f.point_transition[l.to]];
+        r["transition"] = {{"automaton", a.name}, {"from", a.locations[tr.from]},
+                           {"to", a.locations[tr.to]}};
+      }
+      out.push_back(std::move(r));
     };
     if (requirement && l.ub) {  // a later upper bound
       if (Ticks k = least(steps, [&](Ticks k) { return dc_with(l.lb, *l.ub + k * second); }))
@@ -119,14 +127,20 @@ std::optional<Json> SuccessProbability(const flexible::FlexiblePlan& f, const Do
 
 }  // namespace
 
-void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const StatePlan& sp,
-                    const SolveOptions& o) {
+Controllability Asked(const Domain& d, const SolveOptions& o) {
+  if (o.controllability != Controllability::kAuto) return o.controllability;
+  return d.HasContingent() ? Controllability::kDynamic : Controllability::kNone;
+}
+
+FlexibleOutcome AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d,
+                               const StatePlan& sp, const SolveOptions& o) {
+  FlexibleOutcome outcome;
   std::string why;
   auto f = flexible::DeriveNetwork(plan, d, sp, std::lround(1.0 / d.time_resolution), &why);
   if (!f) {
     answer["network"] = nullptr;
     answer["controllability"] = {{"note", why}};
-    return;
+    return outcome;
   }
   answer["network"] = network::NetworkToJson(f->net);
   if (f->rigid) answer["network"]["rigid"] = f->rigid_reason;
@@ -135,13 +149,12 @@ void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const
   const network::CheckResult check = network::CheckNetwork(f->net);
   Json c = {{"strong", check.strong}, {"dynamic", check.dynamic},
             {"ms", std::round(check.ms * 1000) / 1000}};
-  Controllability asked = o.controllability;
-  if (asked == Controllability::kAuto)
-    asked = d.HasContingent() ? Controllability::kDynamic : Controllability::kNone;
+  const Controllability asked = Asked(d, o);
   c["asked"] = ControllabilityName(asked);
   if (!check.dynamic) {
     c["conflict"] = ConflictJson(f->net, check.conflict);
-    c["relaxations"] = Relaxations(f->net, check.conflict);
+    c["relaxations"] = Relaxations(*f, d, check.conflict);
+    outcome.conflict = check.conflict;
   }
   bool met = asked == Controllability::kNone ||
              (asked == Controllability::kStrong ? check.strong : check.dynamic);
@@ -164,6 +177,9 @@ void AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d, const
                         " controllable: some outcome of its contingent durations breaks it";
   }
   answer["controllability"] = std::move(c);
+  outcome.met = met;
+  outcome.plan = std::move(f);
+  return outcome;
 }
 
 }  // namespace ctb::solve

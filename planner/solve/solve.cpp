@@ -9,6 +9,7 @@
 #include "planner/analyze/bounds.h"
 #include "planner/solve/decompose.h"
 #include "planner/solve/engines.h"
+#include "planner/solve/controllable.h"
 #include "planner/solve/flexible_answer.h"
 #include "planner/solve/horizon_solver.h"
 #include "planner/solve/incumbent.h"
@@ -300,21 +301,14 @@ std::optional<Controllability> ParseControllability(const std::string& s) {
 // Contingent transitions are planned for at their longest duration (the worst case) or, with
 // controllability "none", as the planner's choice; the plan's network then carries them as
 // contingent links (planner/flexible, solve/flexible_answer.cpp).
+// A plan that is not of the asked kind is cut and the next best one planned (solve/controllable.h).
 std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
-  Trajectory plan;
-  SolveOptions inner = o;
-  inner.plan_out = &plan;
-  std::optional<Domain> planning;
-  if (d.HasContingent()) planning = PlanningDomain(d, o.controllability == Controllability::kNone);
-  auto r = SolveFixed(planning ? *planning : d, sp, inner);
-  auto* doc = std::get_if<Json>(&r);
-  if (!doc || !doc->value("verified", false) || !o.derive_network) {
-    if (doc && o.plan_out && doc->value("verified", false)) *o.plan_out = std::move(plan);
-    return r;
-  }
-  solve::AddFlexibility(*doc, plan, d, sp, o);
-  if (o.plan_out) *o.plan_out = std::move(plan);
-  return r;
+  const solve::FixedSolve fixed = [](const Domain& written, const StatePlan& s,
+                                     const SolveOptions& so) -> std::variant<Json, Error> {
+    if (!written.HasContingent()) return SolveFixed(written, s, so);
+    return SolveFixed(PlanningDomain(written, so.controllability == Controllability::kNone), s, so);
+  };
+  return solve::SolveControllable(d, sp, o, fixed);
 }
 
 }  // namespace ctb

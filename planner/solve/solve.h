@@ -66,6 +66,9 @@ struct SolveOptions {
   // Accept a plan that is not of the asked kind when its estimated failure probability (under
   // the contingent transitions' distributions, dispatched at its times) is at most this.
   std::optional<double> risk_bound;
+  // The search among plans (solve/controllable.h): at most this many plans that are not of the
+  // asked kind are cut before the answer is the first plan found, unknown. 0: no search.
+  int max_plan_cuts = 16;
   const std::atomic<bool>* cancel = nullptr;
   // The engine that solves each model; nullptr: MiniZinc with Gecode (backend.h). Not owned.
   SolverBackend* backend = nullptr;

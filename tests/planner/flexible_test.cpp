@@ -153,13 +153,15 @@ Domain UncertainPresentation() {
 }
 
 Json SolveUncertain(const Domain& d, const std::string& plan_text,
-                    Controllability c = Controllability::kAuto) {
+                    Controllability c = Controllability::kAuto, long time_limit_ms = 60000,
+                    int max_plan_cuts = 16) {
   Diagnostics diags;
   auto sp = LoadStatePlan(Json::parse(plan_text), d, diags);
   EXPECT_TRUE(sp) << testing::AllErrors(diags);
   SolveOptions o;
-  o.time_limit_ms = 60000;
+  o.time_limit_ms = time_limit_ms;
   o.controllability = c;
+  o.max_plan_cuts = max_plan_cuts;
   auto r = Solve(d, *sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
@@ -210,8 +212,10 @@ TEST(Uncertainty, TurningOffTenSecondsAfterOnIsDynamicNotStrong) {
 // Not controllable: computer and projector on within 5 s of each other. The worst case has a plan
 // (turn the computer on 20 s after the projector: both on at 40), but nature may boot the computer
 // in 10 s and warm the projector up in 40: no dispatcher can keep them together. Asked for a
-// dynamically controllable plan, the answer is unknown with the conflict's contingent durations;
-// with controllability "none" the plan is the planner's choice of durations (on together at 30).
+// dynamically controllable plan, the search among plans cuts the plan (and the next ones, each
+// breaking on a conflict of its own) until its time is up: the answer is the first plan, unknown,
+// with its conflict's contingent durations; with controllability "none" the plan is the planner's
+// choice of durations (on together at 30).
 TEST(Uncertainty, TwoUncertainDevicesTogetherAreNotControllable) {
   const Domain d = UncertainPresentation();
   const std::string plan = std::string("{") + kOff + R"(,
@@ -221,8 +225,11 @@ TEST(Uncertainty, TwoUncertainDevicesTogetherAreNotControllable) {
       "accepting_event1_constraint": "compl[i+1]==compOn",
       "accepting_event2_constraint": "projl[i+1]==projOn", "lower_bound": 0, "upper_bound": 5}}},
     "objective": "makespan"})";
-  Json a = SolveUncertain(d, plan);
+  Json a = SolveUncertain(d, plan, Controllability::kAuto, 3000);
   EXPECT_EQ(a["status"], "unknown") << a.dump();
+  EXPECT_EQ(a["objective"]["value"], 40) << "the first plan: on together at the worst case";
+  EXPECT_GE(a["controllability"]["search"]["plans_cut"], 1) << a["controllability"].dump();
+  EXPECT_EQ(a["controllability"]["met"], false);
   EXPECT_EQ(a["controllability"]["dynamic"], false);
   EXPECT_EQ(a["controllability"]["strong"], false);
   int contingent = 0;
@@ -291,6 +298,7 @@ TEST(Uncertainty, ARiskBoundAcceptsAPlanThatFailsNoMoreOftenThanAsked) {
   for (double bound : {0.0, 1.0}) {
     SolveOptions o;
     o.risk_bound = bound;
+    o.time_limit_ms = 2000;  // with 0, the search among plans finds none of the asked kind
     auto r = Solve(*d, *sp, o);
     ASSERT_TRUE(std::holds_alternative<Json>(r));
     const Json& a = std::get<Json>(r);
