@@ -211,9 +211,9 @@ class Searcher {
     Json& c = doc["controllability"];
     c["search"] = {{"plans_cut", cuts}, {"ms", MsSince(t0_)}, {"stopped", stop}};
     c["conflicts"] = conflicts_;
-    doc["message"] = "no plan of the asked kind was found (the search among plans cut " +
-                     std::to_string(cuts) + " that were not, then stopped: " + stop +
-                     "); this is the best plan found, which is not of that kind";
+    doc["message"] = doc.value("message", std::string("the plan found is not of the asked kind")) +
+                     "; the search among plans cut it and " + std::to_string(cuts - 1) +
+                     " more that were not either, then stopped (" + stop + "): this is the first";
     if (s_.o.plan_out) *s_.o.plan_out = std::move(first_->plan);
     return doc;
   }

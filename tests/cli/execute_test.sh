@@ -166,7 +166,8 @@ assert lines[5] == {"runs": 5, "succeeded": 5, "violated": 0}, lines[5]
 PY
 then ok "--json: five realized trajectories (off 10 s after on, on within 20-40 s) and the totals"
 else bad "--json runs (rc=$rc)"; cat "$T/runs.jsonl"; fi
-out=$("$BIN" execute --domain $U/presentation.json $U/together_within_5.json --sample uniform --runs 3 2>&1); rc=$?
+out=$("$BIN" execute --domain $U/presentation.json $U/together_within_5.json --sample uniform --runs 3 \
+  --time-limit-ms 2000 2>&1); rc=$?
 if [ $rc = 3 ] && [[ "$out" == *"not dynamically controllable"* ]]; then
   ok "a plan that is not controllable is not executed (exit 3) unless --controllability none"
 else bad "uncontrollable plan (rc=$rc): $out"; fi
