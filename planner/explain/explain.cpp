@@ -606,8 +606,9 @@ Json ControllabilityExplanation(const Json& c) {
   Json relaxations = Json::array();
   for (const Json& r : c.value("relaxations", Json::array()))
     relaxations.push_back({{"text", r.value("text", "")}, {"changes", r.value("changes", Json::array())}});
-  return {{"status", "infeasible"}, {"route", "controllability"}, {"conflicts", conflicts},
-          {"relaxations", relaxations}};
+  return {{"status", "controllability"}, {"conflicts", conflicts}, {"relaxations", relaxations},
+          {"stats", {{"conflict_by", "controllability search"},
+                     {"ms", c.value("search", Json::object()).value("ms", 0)}}}};
 }
 
 }  // namespace

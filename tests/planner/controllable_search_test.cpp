@@ -126,7 +126,8 @@ TEST(ControllableSearch, ArrivingTogetherIsProvenImpossibleAndEachRelaxationWork
   EXPECT_EQ(c["met"], false);
   AnnotateAnswer(d, sp, SolveOptions{}, a);
   const Json& ex = a["explanation"];
-  EXPECT_EQ(ex["route"], "controllability");
+  EXPECT_EQ(ex["status"], "controllability");
+  EXPECT_EQ(ex["stats"]["conflict_by"], "controllability search");
   bool names_it = false;
   for (const auto& conflict : ex["conflicts"]) {
     EXPECT_NE(conflict["text"].get<std::string>().find("robot1 goingToDoor1->atDoor1"),

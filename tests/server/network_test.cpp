@@ -20,6 +20,40 @@ class NetServer : public ctb::testing::ServerProcess {
   }
 };
 
+// POST /solve with an uncertain action model (contract section 13): the search among plans
+// through the service. Both robots at door 1: the 3 s plan (arrivals tied) is cut, the 4 s plan
+// is dynamically controllable; within 1 s of each other: none is (within 8 events), infeasible
+// with an explanation from the controllability conflicts (tests/planner/controllable_search_test
+// derives both). The answers are recorded for the OpenAPI check.
+TEST(NetworkService, SolvesSearchAmongPlansThroughTheService) {
+  NetServer s;
+  auto c = s.Client();
+  Diagnostics diags;
+  auto model = ReadJsonFile(std::string(CTB_TEST_SOURCE_DIR) + "/config/uncertain/search_rescue.json", diags);
+  auto together = ReadJsonFile(
+      std::string(CTB_TEST_SOURCE_DIR) + "/config/uncertain/rescue_arrive_together.json", diags);
+  ASSERT_TRUE(model && together);
+  Json both = *together;
+  both["constraints"]["temporal"] = Json::object();
+  Json body = {{"action_model", *model}, {"state_plan", both}, {"options", {{"max_horizon", 8}}}};
+  auto r = c.Post("/solve", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  Json a = Json::parse(r->body);
+  EXPECT_EQ(a["status"], "optimal") << r->body;
+  EXPECT_EQ(a["objective"]["value"], 4);
+  EXPECT_GE(a["controllability"]["search"]["plans_cut"], 1);
+
+  body["state_plan"] = *together;
+  r = c.Post("/solve", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body;
+  a = Json::parse(r->body);
+  EXPECT_EQ(a["status"], "infeasible") << r->body;
+  EXPECT_EQ(a["explanation"]["status"], "controllability") << a["explanation"].dump();
+  EXPECT_FALSE(a["explanation"]["relaxations"].empty());
+}
+
 // A ==[1,3]==> C, C -[0,1]-> B: dynamic (B when C is seen), not strong (tests/planner/
 // network_check_test.cpp derives it); with C -[-2,-1]-> B instead, not dynamic: conflict [0, 1].
 TEST(NetworkService, AnswersTheCheck) {
