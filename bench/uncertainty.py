@@ -27,7 +27,8 @@ from common import BIN, ROOT
 PLANS = [("presentation", "on_within_60"), ("presentation", "on_ten_then_off"),
          ("presentation", "together_within_5"), ("search_rescue", "rescue_at_door1"),
          ("search_rescue", "rescue_open_on_arrival"), ("search_rescue", "rescue_both_at_door1"),
-         ("search_rescue", "rescue_arrive_together")]
+         ("search_rescue", "rescue_arrive_together"), ("assembly", "assembly_a_down_within_6"),
+         ("assembly", "assembly_pick_b_on_return"), ("assembly", "assembly_home_in_4_to_5")]
 TIME_LIMIT_MS = "10000"
 
 
