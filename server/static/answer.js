@@ -175,22 +175,40 @@ function diffBlock(t, previousGoal) {
   }
 }
 
-// What the LLM read in a fault reported in words (a /replan answer's `report`): its restatement,
-// then the facts the replan took from it.
+// What the planner's search among plans did (controllability.search: plans_cut, stopped): "" when
+// there was none.
+function searchText(search, plan) {
+  if (!search) return "";
+  const n = search.plans_cut || 0;
+  const plans = `${n} plan${n === 1 ? "" : "s"}`;
+  const parts = [];
+  if (!plan) parts.push(`No plan is robust: the planner set aside ${plans} that some outcome would break` +
+    (search.proven ? " and found none left." : "."));
+  else if (n > 0) parts.push(`The planner set aside ${plans} that some outcome would break.`);
+  if (search.stopped) parts.push(`It stopped looking (${search.stopped})${plan ? ": this plan is not robust" : ""}.`);
+  return parts.join(" ");
+}
+
 // The plan's flexibility (contract section 13): whether it is robust, and to what, and each
-// transition's window (earliest and latest time over every schedule the network allows).
+// transition's window (earliest and latest time over every schedule the network allows). Without
+// a plan (no network), only what the search among plans did, if anything (null: nothing to say).
 export function flexibilityBlock(t) {
   const c = t.controllability || {};
   const net = t.network || {};
   const contingent = (net.links || []).some((l) => l.kind === "contingent");
   let robust;
-  if (c.note) robust = `No flexible plan: ${c.note}.`;
+  if (!t.network && !c.note) {
+    robust = searchText(c.search, false);
+    if (!robust) return null;
+  } else if (c.note) robust = `No flexible plan: ${c.note}.`;
   else if (!contingent) robust = "Every duration is the plan's own: any time within the windows below keeps the plan valid.";
   else if (c.strong) robust = "Robust to every outcome of the uncertain durations with fixed times (strongly controllable).";
   else if (c.dynamic) robust = "Robust to every outcome of the uncertain durations when the next steps wait for what happened (dynamically controllable, not with fixed times).";
   else robust = "Not robust: some outcomes of the uncertain durations break it.";
   if (c.success_probability) robust += ` Chance of success: ${Math.round(c.success_probability.value * 1000) / 10} %` +
     (c.success_probability.samples ? ` (${c.success_probability.samples} draws).` : " (exact).");
+  if (t.network && c.search) robust += ` ${searchText(c.search, true)}`;
+  robust = robust.trim();
   const box = el("details", { class: "flexibility" });
   box.appendChild(el("summary", {}, "Flexibility"));
   box.appendChild(el("p", { class: "robustness" }, robust));
@@ -207,6 +225,8 @@ export function flexibilityBlock(t) {
   return box;
 }
 
+// What the LLM read in a fault reported in words (a /replan answer's `report`): its restatement,
+// then the facts the replan took from it.
 function reportBlock(r) {
   const box = el("div", { class: "report", role: "note", "aria-label": "The report, as understood" });
   box.appendChild(el("p", { class: "report-restatement" }, `Understood: “${r.restatement || r.command}”`));
@@ -267,7 +287,16 @@ export function renderAnswer(into, data, ctx) {
   if (api && canRun) attachExecution(into, t, api, ctx.execution);
   if (canRun && ctx.serverRun && data.state_plan) into.appendChild(serverRunBlock(data, ctx.serverRun));
   if (t.diff) into.appendChild(diffBlock(t, data.previous_goal));
-  if (t.network || t.controllability) into.appendChild(flexibilityBlock(t));
+  const flex = t.network || t.controllability ? flexibilityBlock(t) : null;
+  if (flex) {
+    into.appendChild(flex);
+    // Hovering a window in the list lights up its band on the timeline.
+    for (const li of flex.querySelectorAll(".windows li[data-point]")) {
+      const band = () => into.querySelector(`.chart g.window[data-point="${CSS.escape(li.dataset.point)}"]`);
+      li.addEventListener("mouseenter", () => band()?.classList.add("lit"));
+      li.addEventListener("mouseleave", () => band()?.classList.remove("lit"));
+    }
+  }
   const stamp = new Date().toISOString().replace(/[:.]/g, "-").slice(0, 19);
   into.appendChild(exportsBar(data.trajectory, data.state_plan, stamp));
   if (data.reasoning) into.appendChild(details("Reasoning", data.reasoning, "reasoning"));

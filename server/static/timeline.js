@@ -3,7 +3,11 @@
 // a row of their own, episodes and temporal constraints as brackets with their bounds and the
 // achieved value, the goal as a dashed line, round ticks (m:ss or h:mm:ss) with gridlines, a
 // legend, hover and tap cards, zoom and pan. It is drawn for the width of its container and
-// redrawn when that changes, so it never makes the page scroll sideways.
+// redrawn when that changes, so it never makes the page scroll sideways. Where the answer has
+// `slack` (contract section 13), each transition's window (when it may happen without breaking
+// the plan) is a translucent band under its automaton's row and commands, one lane per window,
+// with the transition's planned time marked in it; an open window fades out at the chart's right
+// edge.
 //
 //   renderTimeline(container, trajectory, statePlan, domain, opts) -> {wrap, legend, table,
 //     stage, redraw, setNow(t), setPick(fn)}
@@ -140,6 +144,37 @@ export function actionsOf(sp, tr) {
     .map(([n]) => n);
 }
 
+// Each transition's window (the answer's `slack` over `network.points`): [{tr, point,
+// contingent, earliest, latest}] in the points' order, latest null when open. Windows of a single
+// instant are left out. A point is the first transition not yet matched of its automaton with its
+// from and to (an automaton's points follow its transitions in order); an unmatched one is skipped.
+export function windowsOf(t) {
+  const points = new Map((t.network?.points || []).map((p) => [p.id, p]));
+  const trs = t.transitions || [];
+  const used = new Set();
+  const out = [];
+  for (const w of [...(t.slack || [])].sort((a, b) => a.point - b.point)) {
+    const p = points.get(w.point);
+    if (!p?.automaton || typeof w.earliest !== "number") continue;
+    const i = trs.findIndex((tr, k) => !used.has(k) && tr.automaton === p.automaton && tr.from === p.from && tr.to === p.to);
+    if (i < 0) continue;
+    used.add(i);
+    const latest = typeof w.latest === "number" ? w.latest : null;
+    if (latest !== null && latest - w.earliest < 1e-9) continue;
+    out.push({ tr: trs[i], point: w.point, contingent: p.kind === "contingent", earliest: w.earliest, latest });
+  }
+  return out;
+}
+
+const num = (v) => String(Number.isInteger(v) ? v : Math.round(v * 100) / 100);
+
+// "robot1 outside → goingToDoor1: any time 0–2 s"; a contingent point says that nature picks it.
+export function windowText(w) {
+  const span = w.latest === null ? `from ${num(w.earliest)} s on` : `${num(w.earliest)}–${num(w.latest)} s`;
+  const what = `${w.tr.automaton} ${w.tr.from} → ${w.tr.to}`;
+  return w.contingent ? `${what} (uncertain): nature picks it, any time ${span}` : `${what}: any time ${span}`;
+}
+
 // Greedy lanes: items sorted by x0 go to the first lane whose last item ended before them.
 function lanes(items) {
   const ends = [];
@@ -177,6 +212,14 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
   const full = Math.max(1, goal ?? 0, lastEnd, prevGoal ?? 0, ...ghosts.map((g) => g.time));
   const brackets = constraintBrackets(t, sp);
   const longForm = full >= 3600;
+  // Windows per automaton, in lanes fixed in time (so zooming does not reshuffle them); windows
+  // that only touch keep apart.
+  const windows = windowsOf(t);
+  const winRows = Object.fromEntries(names.map((name) => {
+    const items = windows.filter((w) => w.tr.automaton === name)
+      .map((w) => ({ w, x0: w.earliest, x1: w.latest === null ? Infinity : w.latest + 1e-6 }));
+    return [name, { items, lanes: items.length ? lanes(items) : 0 }];
+  }));
 
   const wrap = htmlEl("div", { class: "timeline-wrap" });
   const tools = htmlEl("div", { class: "timeline-tools", role: "toolbar", "aria-label": "Timeline zoom" });
@@ -215,6 +258,10 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
     '<span class="legend-item"><svg width="16" height="12"><line x1="8" y1="0" x2="8" y2="12" stroke="#b3261e" stroke-width="2" stroke-dasharray="3 2"/></svg>goal</span>' +
     '<span class="legend-item"><svg width="22" height="12"><path d="M1 10 V4 H21 V10" fill="none" stroke="#3b4a6b" stroke-width="1.5"/></svg>constraint: bounds and achieved</span>';
   const spc = sp?.constraints || {};
+  if (windows.length)
+    marks.innerHTML += '<span class="legend-item legend-window"><svg width="22" height="12"><rect x="1" y="3" width="20" height="6" class="window-band"/><rect x="1" y="3" width="1.5" height="6" class="window-edge"/></svg>window: when it may happen</span>';
+  if (windows.some((w) => w.contingent))
+    marks.innerHTML += '<span class="legend-item legend-window contingent"><svg width="22" height="12"><rect x="1" y="3" width="20" height="6" class="window-band"/><rect x="1" y="3" width="1.5" height="6" class="window-edge"/></svg>uncertain: nature picks when</span>';
   if (Object.keys(spc.actions || {}).length)
     marks.innerHTML += '<span class="legend-item"><svg width="12" height="12"><path d="M6 1 L11 6 L6 11 L1 6 Z" fill="#1d2330" stroke="#b35c00" stroke-width="2"/></svg>a named action</span>';
   if (Object.values(spc.temporal || {}).some((c) => c.ordered === true))
@@ -288,6 +335,13 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
       return [b.label, `${b.kind === "episode" ? "from" : "between"} ${clock(b.from, longForm)} and ${clock(b.to, longForm)}`,
         b.kind === "temporal" ? `event 1 at ${seconds(b.event1)}, event 2 at ${seconds(b.event2)}` : ""].filter(Boolean);
     }
+    if (d.kind === "window") {
+      const w = windows.find((x) => x.point === +d.point);
+      if (!w) return null;
+      return [`${w.tr.automaton}: ${w.tr.from} → ${w.tr.to}`, w.tr.command ? `command ${w.tr.command}` : "",
+        windowText(w).replace(/^.*?: /, ""),
+        `planned at ${clock(w.tr.time, longForm)} (${seconds(w.tr.time)})`].filter(Boolean);
+    }
     if (d.kind === "goal") return ["goal reached", `at ${clock(goal, longForm)} (${seconds(goal)})`];
     return null;
   }
@@ -348,6 +402,7 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
     const font = small ? 10 : 11;
     const hasCommands = (t.transitions || []).some((tr) => tr.command) || ghosts.length > 0;
     const labelW = Math.min(small ? 64 : 120, Math.max(36, textWidth(hasCommands ? "commands" : "", font - 1) + 10,
+      textWidth(windows.length ? "windows" : "", font - 1) + 10,
       ...names.map((n) => textWidth(n, font, "600") + 10)));
     const right = 8, top = 20, pad = 8;  // pad: inside the plot, so marks at its ends stay whole
     const plotW = width - labelW - right;
@@ -381,9 +436,13 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
     const bandH = bLanes ? 10 + bLanes * (font + 16) : 0;
 
     let y = top;
+    const winLane = small ? 5 : 6, winGap = 2;
     const layout = names.map((name, i) => {
-      const r = { name, y, cmdY: y + rowH + 2, cmd: cmdRows[i] };
-      y += rowH + 2 + cmdRows[i].height + 6;
+      const win = winRows[name];
+      const winH = win.lanes * (winLane + winGap);
+      const cmdY = y + rowH + 2;
+      const r = { name, y, cmdY, cmd: cmdRows[i], win, winY: cmdY + Math.max(0, cmdRows[i].height - 2), winH };
+      y += rowH + 2 + cmdRows[i].height + winH + 6;
       return r;
     });
     const bandY = y;
@@ -404,6 +463,13 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
     hatch.appendChild(svgEl("rect", { width: 6, height: 6, class: "past-wash" }));
     hatch.appendChild(svgEl("line", { x1: 0, y1: 0, x2: 0, y2: 6, class: "past-hatch" }));
     defs.appendChild(hatch);
+    // An open window fades out towards the chart's right edge.
+    for (const kind of ["", "contingent"]) {
+      const fade = svgEl("linearGradient", { id: `fade-${kind}${uid}`, class: `window-fade ${kind}`.trim(), x1: 0, x2: 1, y1: 0, y2: 0 });
+      for (const [offset, opacity] of [[0, 1], [0.6, 1], [1, 0]])
+        fade.appendChild(svgEl("stop", { offset, "stop-opacity": opacity }));
+      defs.appendChild(fade);
+    }
     s.appendChild(defs);
 
     // Gridlines and ticks.
@@ -431,6 +497,7 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
         s.appendChild(g);
       } else s.appendChild(label);
       if (r.cmd.height) s.appendChild(svgEl("text", { x: 4, y: r.cmdY + 12, class: "cmdlabel" }, "commands"));
+      if (r.winH >= font + 4) s.appendChild(svgEl("text", { x: 4, y: r.winY + font, class: "cmdlabel" }, "windows"));
       for (const seg of t.timelines[r.name]) {
         const x0 = x(seg.start), x1 = x(seg.end);
         if (x1 < labelW - 2 || x0 > labelW + plotW + 2) continue;
@@ -445,6 +512,28 @@ export function renderTimeline(container, t, sp, domain, opts = {}) {
         if (vx1 - vx0 > lw + 8)
           plot.appendChild(svgEl("text", { x: vx0 + 4, y: r.y + rowH / 2 + 4, class: "seglabel",
             fill: textOn(fill), "pointer-events": "none" }, seg.location));
+      }
+      // Windows, under the row's commands.
+      for (const { w, lane } of r.win.items) {
+        const x0 = x(w.earliest);
+        const open = w.latest === null;
+        const x1 = open ? labelW + plotW : x(w.latest);
+        if (x1 < labelW || x0 > labelW + plotW) continue;
+        const wy = r.winY + lane * (winLane + winGap);
+        const g = svgEl("g", { class: `window${w.contingent ? " contingent" : ""}${open ? " open" : ""}`,
+          "data-kind": "window", "data-automaton": r.name, "data-point": w.point, "data-from": w.tr.from,
+          "data-to": w.tr.to, "data-time": w.tr.time, "data-earliest": w.earliest });
+        if (w.tr.command) g.dataset.command = w.tr.command;
+        if (open) g.dataset.open = "true"; else g.dataset.latest = w.latest;
+        if (w.contingent) g.dataset.contingent = "true";
+        const band = svgEl("rect", { x: x0, y: wy, width: Math.max(1, x1 - x0), height: winLane, class: "window-band" });
+        if (open) band.style.fill = `url(#fade-${w.contingent ? "contingent" : ""}${uid})`;
+        g.appendChild(band);
+        g.appendChild(svgEl("rect", { x: x0, y: wy, width: 1.5, height: winLane, class: "window-edge" }));
+        if (!open) g.appendChild(svgEl("rect", { x: x1 - 1.5, y: wy, width: 1.5, height: winLane, class: "window-edge" }));
+        g.appendChild(svgEl("rect", { x: x(w.tr.time) - 1, y: wy - 1, width: 2, height: winLane + 2, class: "window-at" }));
+        g.appendChild(svgEl("title", {}, windowText(w)));
+        plot.appendChild(g);
       }
       const laneY = (it) => r.cmdY + 6 + it.lane * (font + 4);
       for (const it of r.cmd.items) {

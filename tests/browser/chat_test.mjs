@@ -160,6 +160,13 @@ try {
             windows === (t.transitions || []).length && windows > 0 &&
             /keeps the plan valid/.test(await turn.locator(".flexibility .robustness").textContent()),
             `${windows} windows for ${(t.transitions || []).length} transitions`);
+      // The windows (issue 26 item 4; tests/browser/windows_test.mjs checks where they are drawn).
+      const wide = (t.slack || []).filter((w) => w.latest === null || w.latest > w.earliest).map((w) => w.point).sort();
+      const bands = await turn.locator("svg.timeline g.window").evaluateAll((els) => els.map((e) => +e.dataset.point).sort());
+      check(`${name}: a window band per transition whose window is wider than an instant`,
+            JSON.stringify(bands) === JSON.stringify(wide) && (!wide.length ||
+              (await turn.locator(".legend-item", { hasText: "window: when it may happen" }).count()) === 1),
+            `${JSON.stringify(bands)} vs ${JSON.stringify(wide)}`);
       check(`${name}: the goal marker`, typeof t.goal_reached_at !== "number" ||
             (await turn.locator("svg.timeline .goal-label").textContent()).startsWith("goal "));
       if (domain === "presentation" && i === 0) {
