@@ -303,6 +303,7 @@ std::string CutConstraint(const Context& c, const PlanCut& cut) {
   for (const CutMark& m : cut.marks)
     lits.push_back(E(m.point) + " = " + (m.kind == CutMark::Kind::kGoal ? "g" : MarkVar(m)));
   for (auto [x, y] : cut.before) lits.push_back(E(x) + " < " + E(y));
+  for (auto [x, y] : DistinctPairs(cut)) lits.push_back(E(x) + " != " + E(y));
   for (auto [x, b] : cut.quiet)
     lits.push_back("X[" + std::to_string(b + 1) + ",max(min(" + E(x) + ",H),1)-1] = 0");
   for (auto [x, y] : cut.next) {

@@ -68,7 +68,7 @@ class CutBuilder {
       Quiet(fb);
     }
     if (needs_rigid_ && !rigid_restated_) {
-      why_not = "its order is rigid because of where its own marks fall";
+      why_not = "its order is rigid because of where its own events fall";
       return false;
     }
     return true;
@@ -203,6 +203,8 @@ bool Holds(const PlanCut& cut, const CutShape& s, const std::vector<int>& ev,
     if (!(E(x) < E(y))) return false;
   for (auto [x, b] : cut.quiet)
     if (te.Fires(b, E(x)) != -1) return false;
+  for (auto [x, y] : DistinctPairs(cut))
+    if (E(x) == E(y)) return false;
   for (auto [x, y] : cut.next)
     if (E(y) != te.Next(cut.points[y].automaton, E(x))) return false;
   for (int y : cut.first)

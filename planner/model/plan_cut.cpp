@@ -70,4 +70,14 @@ CutShape ShapeOf(const PlanCut& cut) {
   return s;
 }
 
+std::vector<std::pair<int, int>> DistinctPairs(const PlanCut& cut) {
+  std::vector<std::pair<int, int>> out;
+  const int n = static_cast<int>(cut.points.size());
+  for (int x = 0; x < n; ++x)
+    for (int y = x + 1; y < n; ++y)
+      if (cut.points[x].automaton >= 0 && cut.points[x].automaton == cut.points[y].automaton)
+        out.emplace_back(x, y);
+  return out;
+}
+
 }  // namespace ctb

@@ -32,4 +32,8 @@ struct CutShape {
 
 CutShape ShapeOf(const PlanCut& cut);
 
+// Pairs of the cut's points of one automaton: two transitions, so at two events (one plan firing
+// never stands for two points, whose links would then be two where that plan has one).
+std::vector<std::pair<int, int>> DistinctPairs(const PlanCut& cut);
+
 }  // namespace ctb

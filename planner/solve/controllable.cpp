@@ -101,7 +101,9 @@ void NothingLeft(Json& doc, const Search& s, const Json& conflicts, const Json& 
   Json c = {{"asked", ControllabilityName(asked)}, {"met", false},
             {"search", {{"plans_cut", cuts}, {"proven", true}, {"ms", MsSince(t0)}}},
             {"conflicts", conflicts}};
-  c["relaxations"] = MergedRelaxations(candidates);
+  // Each makes a cut plan dynamically controllable: offered when that is what was asked.
+  c["relaxations"] =
+      asked == Controllability::kStrong ? Json::array() : MergedRelaxations(candidates);
   doc["controllability"] = std::move(c);
 }
 
@@ -124,19 +126,23 @@ class Searcher {
     for (int cuts = 0;; ++cuts) {
       Round r = Solve(cuts > 0);
       Json* doc = std::get_if<Json>(&r.answer);
+      if (!doc && first_) return Fallback(cuts, "the solver failed: " + std::get<Error>(r.answer).message);
       if (!doc) return std::move(r.answer);
       if (!r.checked) return Unplanned(std::move(r.answer), cuts);
       for (const PlanCut& cut : current_.cuts)
         if (flexible::CutMatches(cut, plan_, s_.sp))
           return InternalError("the search among plans found a plan it had cut");
       Json& c = (*doc)["controllability"];
-      const bool again = !r.outcome.met && !r.outcome.conflict.empty() && r.outcome.plan;
+      const bool unmet = !r.outcome.met;
+      const bool again = unmet && !r.outcome.conflict.empty() && r.outcome.plan;
       std::optional<PlanCut> cut;
-      std::string stop;
+      std::string stop = "the plan is dynamically but not strongly controllable: no conflict to cut";
       if (again) {
         conflicts_.push_back(c.value("conflict", Json::array()));
         for (const auto& rx : c.value("relaxations", Json::array())) candidates_.push_back(rx);
-        if (cuts >= s_.o.max_plan_cuts) stop = "the search may cut " + std::to_string(cuts) + " plans";
+        // A risk bound accepts plans by their times, which a cut does not restate: no search.
+        if (s_.o.risk_bound) stop = "a risk bound was given";
+        else if (cuts >= s_.o.max_plan_cuts) stop = "the search may cut " + std::to_string(cuts) + " plans";
         else if (Left() <= 0) stop = "time";
         else cut = flexible::CutFromConflict(*r.outcome.plan, plan_, r.outcome.conflict, &stop);
         if (cut && !flexible::CutMatches(*cut, plan_, s_.sp)) {
@@ -145,10 +151,10 @@ class Searcher {
         }
       }
       if (!cut) {
-        if (again && cuts > 0 && first_) return Fallback(cuts, stop);
-        if (cuts > 0 || again) {
+        if (unmet && cuts > 0 && first_) return Fallback(cuts, stop);
+        if (cuts > 0 || unmet) {
           Json search = {{"plans_cut", cuts}, {"ms", MsSince(t0_)}};
-          if (again) search["stopped"] = stop;
+          if (unmet) search["stopped"] = stop;
           c["search"] = std::move(search);
         }
         if (s_.o.plan_out) *s_.o.plan_out = std::move(plan_);
