@@ -4,6 +4,7 @@ the real server for --minutes, sampling the server's RSS, open files, threads an
 every --sample-s seconds.
 
     python3 bench/soak.py [--minutes 30] [--out bench/results] [--sample-s 60] [--warmup-min 5]
+                          [--wrap "heaptrack -o /tmp/soak/ht"]
 
 Copies build/client/ctburton to /tmp/soak/ctburton (so a rebuild does not change it under the
 run) and starts `ctburton serve` with its defaults (2 solver workers, queue 8) on free loopback
@@ -33,6 +34,15 @@ without RetryInfo, a stream answered 200 then ended by an `event: error` 503 `bu
 apart as "in-stream busy", the first run's 2,307), a reset or timeout we did not cause, a 200
 whose plan is not verified). Writes OUT/soak.json and OUT/soak.md.
 
+--wrap CMD starts the server under a wrapper (split like a shell would, the server's command
+line appended: `heaptrack -o FILE`, `valgrind --leak-check=full`). The wrapper runs the server as
+a child (heaptrack's shell script does), so the script looks for the server among the wrapper's
+descendants (the process whose /proc/PID/exe is the copied binary; else whose command line holds
+it and `serve`) and samples that process, not the wrapper; SIGTERM goes to the server itself
+(the wrapper's shell would die without passing it on, and heaptrack would lose its file), then
+the script waits for the wrapper to finish writing (up to --wrap-wait-s). Without --wrap nothing
+changes: the Popen'd process is the server.
+
 Needs grpcio (Debian's python3-grpcio); when the python3 on PATH lacks it, the script re-runs
 itself with /usr/bin/python3.
 """
@@ -59,6 +69,7 @@ import http.client  # noqa: E402
 import json  # noqa: E402
 import random  # noqa: E402
 import shutil  # noqa: E402
+import shlex  # noqa: E402
 import signal  # noqa: E402
 import socket  # noqa: E402
 import struct  # noqa: E402
@@ -855,13 +866,16 @@ class Sampler:
         st = {}
         for line in open(f"/proc/{self.pid}/status"):
             k, v = line.split(":", 1)
-            if k in ("VmRSS", "VmHWM", "Threads"):
+            if k in ("VmRSS", "VmHWM", "Threads", "RssAnon", "RssFile"):
                 st[k] = int(v.split()[0])
         fds = len(os.listdir(f"/proc/{self.pid}/fd"))
         cpu, pcpu, me = cpu_times(), proc_cpu(self.pid), os.times()
         s = {"t_s": round(now - self.t0, 1), "utc": datetime.datetime.utcnow().strftime("%H:%M:%S"),
              "phase": phase, "rss_mb": round(st["VmRSS"] / 1024, 1),
              "hwm_mb": round(st["VmHWM"] / 1024, 1), "fds": fds, "threads": st["Threads"],
+             # anonymous (the heap, stacks) and file-backed (code and libraries paged in) parts
+             "rss_anon_mb": round(st.get("RssAnon", 0) / 1024, 1),
+             "rss_file_mb": round(st.get("RssFile", 0) / 1024, 1),
              "children": len(descendants(self.pid)),
              "loadavg": [float(x) for x in open("/proc/loadavg").read().split()[:3]],
              "metrics": metrics(self.port), "ok_so_far": sum(self.stats.ok_total().values())}
@@ -897,6 +911,44 @@ def top_others():
 
 
 # ---------------------------------------------------------------- main
+
+def find_server(wrapper, binary, timeout_s=60, grace_s=10):
+    """The pid of the server started under a wrapper: the wrapper itself or one of its
+    descendants whose executable is the copied binary (heaptrack runs it as a child of its
+    shell). Failing that for grace_s (a wrapper that execs its own tool, as valgrind does), the
+    deepest process whose command line holds the binary and `serve` (not earlier: the wrapper's
+    own command line holds them too)."""
+    real = os.path.realpath(binary)
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout_s:
+        if wrapper.poll() is not None:
+            raise SystemExit(f"wrapper exited with {wrapper.returncode} at start")
+        by_cmd = set()
+        for p in [wrapper.pid] + descendants(wrapper.pid):
+            try:
+                if os.path.realpath(f"/proc/{p}/exe") == real:
+                    return p
+                argv = open(f"/proc/{p}/cmdline", "rb").read().split(b"\0")
+            except OSError:
+                continue
+            if binary.encode() in argv and b"serve" in argv:
+                by_cmd.add(p)
+        if time.monotonic() - t0 > grace_s:
+            deepest = [p for p in by_cmd if not by_cmd.intersection(descendants(p))]
+            if deepest:
+                return deepest[0]
+        time.sleep(0.1)
+    raise SystemExit("server process not found under the wrapper")
+
+
+def alive(pid):
+    """A process that exists and is not a zombie."""
+    try:
+        stat = open(f"/proc/{pid}/stat").read()
+    except OSError:
+        return False
+    return stat[stat.rfind(")") + 2] != "Z"
+
 
 def wait_ready(port, proc):
     for _ in range(300):
@@ -965,6 +1017,11 @@ def main():
     ap.add_argument("--render", metavar="SOAK_JSON",
                     help="no run: rewrite OUT/soak.{json,md} from an earlier soak.json")
     ap.add_argument("--append", metavar="MD", help="with --render: a follow-up section to add")
+    ap.add_argument("--wrap", default="", metavar="CMD",
+                    help='start the server under CMD, e.g. "heaptrack -o /tmp/soak/ht"; RSS and '
+                         "SIGTERM go to the server process found under it")
+    ap.add_argument("--wrap-wait-s", type=float, default=900,
+                    help="with --wrap: how long to wait for the wrapper after the server exited")
     a = ap.parse_args()
     if a.render:
         res = json.load(open(a.render))
@@ -1001,10 +1058,14 @@ def main():
     for k in ("CTB_LLM_BASE_URL", "CTB_LLM_API_KEY", "CTB_LLM_RECORD"):
         env.pop(k, None)
     logf = open(log_path, "wb")
-    srv = subprocess.Popen([binary, "serve", "--port", str(port), "--grpc-port", str(gport),
-                            "--data-dir", data_dir], cwd=ROOT, env=env,
+    wrap = shlex.split(a.wrap)
+    srv = subprocess.Popen(wrap + [binary, "serve", "--port", str(port), "--grpc-port", str(gport),
+                                   "--data-dir", data_dir], cwd=ROOT, env=env,
                            stdout=logf, stderr=subprocess.STDOUT)
-    print(f"server pid {srv.pid} http {port} grpc {gport}; run dir {run_dir}", flush=True)
+    # the process to sample and to stop: the Popen'd one, or the server under the wrapper
+    server_pid = find_server(srv, binary) if wrap else srv.pid
+    print(f"server pid {server_pid}" + (f" (under {a.wrap!r}, pid {srv.pid})" if wrap else "")
+          + f" http {port} grpc {gport}; run dir {run_dir}", flush=True)
     started_utc = datetime.datetime.utcnow()
     crash = None
     try:
@@ -1029,7 +1090,7 @@ def main():
             traj = json.loads(r.read())
             if r.status == 200 and traj.get("status") in ("optimal", "feasible"):
                 ctx.trajectories.append((ex, dom, plan, traj))
-        sampler = Sampler(srv.pid, port, t0, stats)
+        sampler = Sampler(server_pid, port, t0, stats)
         others_start = top_others()
         sampler.sample("start")
         threads = []
@@ -1046,8 +1107,8 @@ def main():
         next_s = t0 + a.sample_s
         while time.monotonic() < end:
             time.sleep(min(1.0, max(0.0, end - time.monotonic())))
-            if srv.poll() is not None:
-                crash = {"at_s": round(time.monotonic() - t0, 1), "returncode": srv.returncode,
+            if srv.poll() is not None or not alive(server_pid):
+                crash = {"at_s": round(time.monotonic() - t0, 1), "returncode": srv.poll(),
                          "utc": datetime.datetime.utcnow().strftime("%H:%M:%S")}
                 print("SERVER DIED", crash, flush=True)
                 break
@@ -1067,7 +1128,7 @@ def main():
             time.sleep(10)
             idle_samples.append(sampler.sample("idle 10 s after the traffic"))
         shutdown = None
-        if srv.poll() is None:
+        if srv.poll() is None and not wrap:
             ts = time.monotonic()
             srv.send_signal(signal.SIGTERM)
             try:
@@ -1076,7 +1137,28 @@ def main():
                 srv.kill()
                 rc = "killed after 60 s"
             shutdown = {"returncode": rc, "seconds": round(time.monotonic() - ts, 2)}
+        elif srv.poll() is None:
+            # the server itself gets the SIGTERM (it drains and exits; the wrapper then writes
+            # its data), and the wrapper is waited for
+            ts = time.monotonic()
+            os.kill(server_pid, signal.SIGTERM)
+            while alive(server_pid) and time.monotonic() - ts < 60:
+                time.sleep(0.05)
+            gone = not alive(server_pid)
+            server_s = round(time.monotonic() - ts, 2)
+            if not gone:
+                os.kill(server_pid, signal.SIGKILL)
+            try:
+                rc = srv.wait(timeout=a.wrap_wait_s)
+            except subprocess.TimeoutExpired:
+                srv.kill()
+                rc = f"wrapper killed after {a.wrap_wait_s:g} s"
+            # heaptrack's script exits with the server's code
+            shutdown = {"returncode": rc if gone else "killed after 60 s", "seconds": server_s,
+                        "wrapper_seconds": round(time.monotonic() - ts, 2)}
     finally:
+        if wrap and alive(server_pid):
+            os.kill(server_pid, signal.SIGKILL)
         if srv.poll() is None:
             srv.kill()
         logf.close()
@@ -1094,6 +1176,7 @@ def main():
            "traffic_s": round(traffic_s, 1), "binary": {"source": a.bin, "copy": binary, "sha256_16": sha,
                                                           "built": bin_mtime, "git_head": head},
            "server": {"port": port, "grpc_port": gport, "data_dir": data_dir, "log": log_path,
+                      "wrap": a.wrap, "pid": server_pid,
                       "config": "defaults (2 solver workers, queue 8, max_connections 128)"},
            "clients": CLIENTS, "cores": os.cpu_count(), "routes": routes, "totals": totals,
            "per_minute_ok": per_minute, "samples": sampler.samples,
@@ -1187,7 +1270,10 @@ def write_md(path, res):
          f"{res['binary']['built']}, git {res['binary']['git_head']}, Release, sha256 "
          f"{res['binary']['sha256_16']}...) running `serve` with its "
          f"{res['server']['config']}, gRPC on, `CTB_LLM_REPLAY=tests/recordings/thesis`, a fresh "
-         "`--data-dir`. Clients (threads): " +
+         "`--data-dir`" + (f", under `{res['server']['wrap']}` (RSS sampled from the server process "
+                           "itself, not the wrapper; under heaptrack it includes heaptrack's own "
+                           "bookkeeping inside the server)" if res["server"].get("wrap") else "") +
+         ". Clients (threads): " +
          ", ".join(f"{k} {n}" for k, n in res["clients"].items()) + ".", "",
          "Classes: **ok** 2xx; **refused** 503/429 with `Retry-After`, streams included (a "
          "`\"stream\": true` request now reserves its solver place before its 200 head, so a busy "
@@ -1215,15 +1301,16 @@ def write_md(path, res):
              f"{t['ok'] / mins:.1f} | | | |")
     L += ["", "ok answers per minute (all routes): " + ", ".join(map(str, res["per_minute_ok"])), "",
           "## The server over time", "",
-          "| UTC | min | phase | RSS MB | peak RSS MB | open fds | threads | solver procs | "
+          "| UTC | min | phase | RSS MB | RSS anon/file MB | peak RSS MB | open fds | threads | solver procs | "
           "jobs running/queued | rejected (total) | conns open | server CPU (cores) | "
           "client CPU (cores) | others' CPU (cores) | CPU user/nice/sys/idle % | loadavg 1/5/15 |",
-          "|---|" + "---|" * 15]
+          "|---|" + "---|" * 16]
     for s in res["samples"]:
         m = s.get("metrics", {})
         cp = s.get("cpu_pct")
         cps = f"{cp['user']}/{cp['nice']}/{cp['system']}/{cp['idle']}" if cp else ""
-        L.append(f"| {s['utc']} | {s['t_s'] / 60:.1f} | {s['phase']} | {s['rss_mb']} | {s['hwm_mb']} | "
+        af = f"{s['rss_anon_mb']}/{s['rss_file_mb']}" if "rss_anon_mb" in s else ""
+        L.append(f"| {s['utc']} | {s['t_s'] / 60:.1f} | {s['phase']} | {s['rss_mb']} | {af} | {s['hwm_mb']} | "
                  f"{s['fds']} | {s['threads']} | {s['children']} | "
                  f"{num(m, 'ctb_solver_jobs_running')}/{num(m, 'ctb_solver_jobs_queued')} | "
                  f"{num(m, 'ctb_solver_jobs_rejected_total')} | {num(m, 'ctb_connections_open')} | "
@@ -1266,7 +1353,9 @@ def write_md(path, res):
                  f"{v['stuck_client_threads']}.")
     if v["shutdown"]:
         L.append(f"- SIGTERM after the run: exit {v['shutdown']['returncode']} in "
-                 f"{v['shutdown']['seconds']} s.")
+                 f"{v['shutdown']['seconds']} s"
+                 + (f" (the wrapper finished {v['shutdown']['wrapper_seconds']} s after the "
+                    "signal)" if "wrapper_seconds" in v["shutdown"] else "") + ".")
     L.append(f"- Server log: lines by level {res['server_log']['levels']}; not info: "
              f"{res['server_log']['non_info'] or 'none'}.")
     why = [w for w, bad in (("RSS grew past the threshold", not rss_ok),
