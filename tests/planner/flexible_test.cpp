@@ -225,7 +225,7 @@ TEST(Uncertainty, TwoUncertainDevicesTogetherAreNotControllable) {
       "accepting_event1_constraint": "compl[i+1]==compOn",
       "accepting_event2_constraint": "projl[i+1]==projOn", "lower_bound": 0, "upper_bound": 5}}},
     "objective": "makespan"})";
-  Json a = SolveUncertain(d, plan, Controllability::kAuto, 3000);
+  Json a = SolveUncertain(d, plan, Controllability::kAuto, 1500);
   EXPECT_EQ(a["status"], "unknown") << a.dump();
   EXPECT_EQ(a["objective"]["value"], 40) << "the first plan: on together at the worst case";
   EXPECT_GE(a["controllability"]["search"]["plans_cut"], 1) << a["controllability"].dump();
@@ -324,7 +324,7 @@ TEST(Uncertainty, ARiskBoundAcceptsAPlanThatFailsNoMoreOftenThanAsked) {
 //     on_within_60: turn on at 0, on at 20-40 <= 60 whatever nature does: strong, worst case 40.
 //     on_ten_then_off: off exactly 10 s after on (20-40 s): wait and react: dynamic, not strong, 50.
 //     together_within_5: the boot alone spans 10 s > 5: not controllable. The search among plans
-//       finds no proof in 3 s (each plan it cuts is followed by another, turning devices off and
+//       finds no proof in 1.5 s (each plan it cuts is followed by another, turning devices off and
 //       on again): unknown, the first plan's worst case 40.
 //   search_rescue (drives to door 1: 1-3 s):
 //     rescue_at_door1: drive at 0, there at 1-3: strong, worst case 3.
@@ -360,7 +360,7 @@ TEST(Uncertainty, TheShippedUncertainVariantsAreOfTheKindsDerivedByHand) {
   const std::vector<Case> cases = {
       {"presentation", "on_within_60", "optimal", 40, true, true},
       {"presentation", "on_ten_then_off", "optimal", 50, false, true},
-      {"presentation", "together_within_5", "unknown", 40, false, false, 3000},
+      {"presentation", "together_within_5", "unknown", 40, false, false, 1500},
       {"search_rescue", "rescue_at_door1", "optimal", 3, true, true},
       {"search_rescue", "rescue_open_on_arrival", "optimal", 4, false, true},
       {"search_rescue", "rescue_arrive_together", "infeasible", nullptr, false, false, 60000, 8},
