@@ -42,6 +42,21 @@ void ActionUse(const StatePlan& sp, std::vector<bool>& at_one_event, std::vector
   for (int j : sp.forbidden) read[j] = true;
 }
 
+// The model's variable for the event of a state-plan endpoint: shared events and cuts read it.
+std::string EndpointVar(EndpointKind kind, int index) {
+  const std::string i = std::to_string(index + 1);
+  switch (kind) {
+    case EndpointKind::kEpisodeStart: return "EP_S[" + i + "]";
+    case EndpointKind::kEpisodeEnd: return "EP_E[" + i + "]";
+    case EndpointKind::kEvent1: return "TC_1[" + i + "]";
+    case EndpointKind::kEvent2: return "TC_2[" + i + "]";
+    case EndpointKind::kAction: return "AK[" + i + "]";
+    case EndpointKind::kOrder1: return "O_1[" + i + "]";
+    case EndpointKind::kOrder2: return "O_2[" + i + "]";
+  }
+  return "0";
+}
+
 // "X[a,k] in {ids}": action j's transition fires between stage k and k+1.
 std::string Fires(const Context& c, int j, const std::string& k) {
   const ActionEvent& act = c.sp.actions[j];
@@ -218,19 +233,7 @@ void EmitTemporals(const Context& c) {
 void EmitSharedEvents(const Context& c) {
   if (c.sp.events.empty() && c.sp.action_events.empty()) return;
   c.out += "% shared events\n";
-  auto var = [](const Endpoint& p) {
-    std::string i = std::to_string(p.index + 1);
-    switch (p.kind) {
-      case EndpointKind::kEpisodeStart: return "EP_S[" + i + "]";
-      case EndpointKind::kEpisodeEnd: return "EP_E[" + i + "]";
-      case EndpointKind::kEvent1: return "TC_1[" + i + "]";
-      case EndpointKind::kEvent2: return "TC_2[" + i + "]";
-      case EndpointKind::kAction: return "AK[" + i + "]";
-      case EndpointKind::kOrder1: return "O_1[" + i + "]";
-      case EndpointKind::kOrder2: return "O_2[" + i + "]";
-    }
-    return std::string("0");
-  };
+  auto var = [](const Endpoint& p) { return EndpointVar(p.kind, p.index); };
   for (const SharedEvent* ev : c.sp.AllSharedEvents())
     for (std::size_t k = 1; k < ev->endpoints.size(); ++k)
       c.out += "constraint " + var(ev->endpoints[0]) + " = " + var(ev->endpoints[k]) + ";\n";
@@ -256,20 +259,8 @@ void EmitEndState(const Context& c) {
 
 namespace {
 
-// The model's variable for a mark's event (the same names as EmitSharedEvents).
-std::string MarkVar(const CutMark& m) {
-  const std::string i = std::to_string(m.index + 1);
-  switch (m.endpoint) {
-    case EndpointKind::kEpisodeStart: return "EP_S[" + i + "]";
-    case EndpointKind::kEpisodeEnd: return "EP_E[" + i + "]";
-    case EndpointKind::kEvent1: return "TC_1[" + i + "]";
-    case EndpointKind::kEvent2: return "TC_2[" + i + "]";
-    case EndpointKind::kAction: return "AK[" + i + "]";
-    case EndpointKind::kOrder1: return "O_1[" + i + "]";
-    case EndpointKind::kOrder2: return "O_2[" + i + "]";
-  }
-  return "0";
-}
+// The model's variable for a mark's event.
+std::string MarkVar(const CutMark& m) { return EndpointVar(m.endpoint, m.index); }
 
 // "not (every literal)" for one assignment of the loop classes (plan_cut.h): each point's
 // transition fires at its class's event, the marks, orders and neighbours are as in the cut.
