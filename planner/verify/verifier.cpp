@@ -19,12 +19,18 @@ class Replay {
   std::vector<std::string> Run() {
     if (!Shape()) return errors_;
     Dynamics();
-    StatePlanRules();
+    if (!Stopped()) StatePlanRules();
     return errors_;
   }
 
+  // Stop at the first violation (TrajectoryIsPlan: brute force asks only yes or no).
+  bool stop_at_first_ = false;
+  bool allow_idle_ = false;
+
  private:
   void Fail(std::string msg) { errors_.push_back(std::move(msg)); }
+  // In stop-at-first mode the rules' loops return once a violation is recorded.
+  bool Stopped() const { return stop_at_first_ && !errors_.empty(); }
   long Ticks(double seconds) const { return std::lround(seconds * static_cast<double>(tps_)); }
   std::string Name(int a) const { return d_.automata[a].name; }
 
@@ -164,11 +170,15 @@ class Replay {
       bool any = false;
       const long now = t_.events[k], before = t_.events[k - 1];
       for (std::size_t a = 0; a < na; ++a) {
+        if (Stopped()) return;
         const Automaton& au = d_.automata[a];
         const int loc = t_.locations[a][k - 1];
         const long clock = now - entry[a];
-        const std::string at = "'" + au.name + "' at event " + std::to_string(k) + " (t=" +
-                               std::to_string(now) + " ticks)";
+        // Built only when a rule fails: the replay runs on every plan a brute force enumerates.
+        auto at = [&] {
+          return "'" + au.name + "' at event " + std::to_string(k) + " (t=" + std::to_string(now) +
+                 " ticks)";
+        };
         const int fi = fired[k][a];
         // Rules over every transition leaving the current location (determinacy, no overstay).
         for (std::size_t ti = 0; ti < au.transitions.size(); ++ti) {
@@ -177,32 +187,32 @@ class Replay {
           const long lo = Ticks(tr.duration.lo);
           if (tr.commanded) {
             if (fi != static_cast<int>(ti))
-              Fail(at + ": command '" + au.commands[tr.command > 0 ? tr.command - 1 : 0] +
+              Fail(at() + ": command '" + au.commands[tr.command > 0 ? tr.command - 1 : 0] +
                    "' was issued but its transition did not fire");
           } else if (tr.controllable || tr.contingent) {
             // The planner (controllable) or nature (contingent) picks the time in [lo, hi].
             if (tr.duration.hi && clock > Ticks(*tr.duration.hi))
-              Fail(at + ": " + (tr.contingent ? "contingent" : "controllable") +
+              Fail(at() + ": " + (tr.contingent ? "contingent" : "controllable") +
                    " transition overstayed its upper bound");
           } else {
             if (now > std::max(before, entry[a] + lo))
-              Fail(at + ": automatic transition to '" + au.locations[tr.to] +
+              Fail(at() + ": automatic transition to '" + au.locations[tr.to] +
                    "' was due at clock " + std::to_string(lo) + " but the stage lasted longer");
             if (clock >= lo && fi != static_cast<int>(ti))
-              Fail(at + ": automatic transition to '" + au.locations[tr.to] + "' was enabled but did not fire");
+              Fail(at() + ": automatic transition to '" + au.locations[tr.to] + "' was enabled but did not fire");
           }
         }
         if (fi < 0) {
-          if (t_.locations[a][k] != loc) Fail(at + ": location changed without a transition");
+          if (t_.locations[a][k] != loc) Fail(at() + ": location changed without a transition");
           continue;
         }
         any = true;
         const Transition& tr = au.transitions[fi];
         if (tr.from != loc || tr.to != t_.locations[a][k])
-          Fail(at + ": the transition does not match the locations before and after");
-        if (!GuardHolds(tr, k - 1)) Fail(at + ": guard '" + tr.guard_text + "' is false on the stage before");
+          Fail(at() + ": the transition does not match the locations before and after");
+        if (!GuardHolds(tr, k - 1)) Fail(at() + ": guard '" + tr.guard_text + "' is false on the stage before");
         if (clock < Ticks(tr.duration.lo) || (tr.duration.hi && clock > Ticks(*tr.duration.hi)))
-          Fail(at + ": time in '" + au.locations[loc] + "' is outside the transition's duration");
+          Fail(at() + ": time in '" + au.locations[loc] + "' is outside the transition's duration");
         entry[a] = now;
       }
       if (!any && !allow_idle_)
@@ -222,7 +232,7 @@ class Replay {
 
   void StatePlanRules() {
     // Episodes.
-    for (std::size_t p = 0; p < sp_.episodes.size(); ++p) {
+    for (std::size_t p = 0; p < sp_.episodes.size() && !Stopped(); ++p) {
       const Episode& ep = sp_.episodes[p];
       auto [s, e] = t_.episodes[p];
       const std::string name = "episode '" + ep.name + "'";
@@ -244,7 +254,7 @@ class Replay {
         if (!OnStage(ep.state, k)) Fail(name + ": state constraint fails on stage " + std::to_string(k));
     }
     // Temporal constraints.
-    for (std::size_t q = 0; q < sp_.temporals.size(); ++q) {
+    for (std::size_t q = 0; q < sp_.temporals.size() && !Stopped(); ++q) {
       const Temporal& tc = sp_.temporals[q];
       auto [k1, k2] = t_.temporals[q];
       const std::string name = "temporal constraint '" + tc.name + "'";
@@ -268,7 +278,9 @@ class Replay {
       long dt = std::labs(t_.events[k2] - t_.events[k1]);
       if (dt < Ticks(tc.lower) || dt > Ticks(tc.upper)) Fail(name + ": time between its events is outside its bounds");
     }
+    if (Stopped()) return;
     ActionRules();
+    if (Stopped()) return;
     // Shared events.
     for (const SharedEvent* evp : sp_.AllSharedEvents()) {
       const SharedEvent& ev = *evp;
@@ -291,6 +303,7 @@ class Replay {
       if (std::adjacent_find(at.begin(), at.end(), std::not_equal_to<>()) != at.end())
         Fail("shared event '" + ev.name + "': its endpoints fall on different events");
     }
+    if (Stopped()) return;
     // End state: accepted at the first event where the goal holds and all are accepted.
     auto done = [&](int k) {
       if (!AtEvent(sp_.goal, k)) return false;
@@ -417,9 +430,6 @@ class Replay {
   std::vector<std::string> errors_;
   std::vector<std::vector<int>> firings_;  // per action: the events it fires at, ascending
   std::vector<int> order_accepted_;        // per order: the event it is accepted at
-
- public:
-  bool allow_idle_ = false;
 };
 
 }  // namespace
@@ -430,6 +440,13 @@ std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
   Replay r(t, d, sp, ticks_per_second);
   r.allow_idle_ = allow_idle_events;
   return r.Run();
+}
+
+bool TrajectoryIsPlan(const Trajectory& t, const Domain& d, const StatePlan& sp,
+                      long ticks_per_second) {
+  Replay r(t, d, sp, ticks_per_second);
+  r.stop_at_first_ = true;
+  return r.Run().empty();
 }
 
 }  // namespace ctb

@@ -20,4 +20,9 @@ std::vector<std::string> VerifyTrajectory(const Trajectory& t, const Domain& d,
                                           const StatePlan& sp, long ticks_per_second,
                                           bool allow_idle_events = false);
 
+// The same replay, stopped at the first violation: true when t is a valid plan. For callers that
+// judge many candidates (brute-force enumeration in the tests) and need no reasons.
+bool TrajectoryIsPlan(const Trajectory& t, const Domain& d, const StatePlan& sp,
+                      long ticks_per_second);
+
 }  // namespace ctb

@@ -162,7 +162,7 @@ class Enumerator {
     std::sort(t.fired.begin(), t.fired.end(), [](const FiredTransition& a, const FiredTransition& b) {
       return a.event != b.event ? a.event < b.event : a.automaton < b.automaton;
     });
-    if (VerifyTrajectory(t, d_, sp_, 1).empty()) {
+    if (TrajectoryIsPlan(t, d_, sp_, 1)) {
       Best b{TrajectoryCost(t, d_), t.events[t.goal_event]};
       CheckBounds(t, b);
       // `accept` (costly) only for a plan that would be the best so far.

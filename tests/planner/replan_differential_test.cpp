@@ -192,7 +192,7 @@ class FutureEnumerator {
         return a.event != b.event ? a.event < b.event : a.automaton < b.automaton;
       });
       std::swap(t.fired, sorted);
-      if (VerifyTrajectory(t, d_, sp_, 1).empty()) {
+      if (TrajectoryIsPlan(t, d_, sp_, 1)) {
         Best b{TrajectoryCost(t, d_), t.events[t.goal_event]};
         const Objective o = sp_.objective;
         bool better = !best_ || (o == Objective::kCost ? b.cost < best_->cost

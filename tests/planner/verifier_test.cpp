@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 #include "test_util.h"
 
 namespace ctb {
@@ -139,6 +142,33 @@ TEST(VerifyTrajectory, RejectsMalformedShapes) {
   Fixture f;
   f.t.locations.pop_back();
   EXPECT_TRUE(Mentions(f.Verify(), "one timeline per automaton"));
+}
+
+// The yes-or-no replay that stops at the first violation (brute force) agrees with the full one
+// on the hand-built plan and on 300 random corruptions of it: event times, locations, commands,
+// constraint placements.
+TEST(TrajectoryIsPlan, AgreesWithTheFullReplay) {
+  Fixture base;
+  EXPECT_TRUE(TrajectoryIsPlan(base.t, base.d, base.sp, 1));
+  std::mt19937 rng(7);
+  int rejected = 0;
+  for (int i = 0; i < 300; ++i) {
+    Fixture f;
+    auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+    for (int changes = 1 + pick(2); changes > 0; --changes) {
+      const int k = pick(8), a = pick(3);
+      switch (pick(4)) {
+        case 0: f.t.events[k] = std::max(0L, f.t.events[k] + pick(121) - 60); break;
+        case 1: f.t.locations[a][k] = pick(5) % (a == 2 ? 5 : (a == 1 ? 2 : 3)); break;
+        case 2: f.t.commands[a][k] = pick(3); break;
+        default: f.t.temporals[pick(2)].second = pick(8); break;
+      }
+    }
+    const auto problems = f.Verify();
+    EXPECT_EQ(TrajectoryIsPlan(f.t, f.d, f.sp, 1), problems.empty()) << "case " << i << "\n" << Join(problems);
+    rejected += !problems.empty();
+  }
+  EXPECT_GT(rejected, 200);  // the corruptions mostly break the plan
 }
 
 }  // namespace
