@@ -12,6 +12,19 @@
 
 namespace ctb {
 
+// The command code a commanded guard requires: a positive atom "<own>u[i]==c" in the guard's
+// top-level conjunction. 0 when the guard reads the command some other way.
+int RequiredCommand(const Expr& e, int self) {
+  if (e.op == Expr::Op::kAtom)
+    return (e.var_kind == VarKind::kCommand && e.target == self && !e.not_equal) ? e.value_code : 0;
+  if (e.op == Expr::Op::kAnd) {
+    int l = RequiredCommand(e.kids[0], self), r = RequiredCommand(e.kids[1], self);
+    if (l && r) return l == r ? l : -1;  // two different commands: never enabled
+    return l ? l : r;
+  }
+  return 0;
+}
+
 bool IsIdentifier(const std::string& s) {
   if (s.empty() || s.size() > 128) return false;
   if (!(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
@@ -75,19 +88,6 @@ std::vector<std::string> ReadNames(const Json* j, const std::string& pointer, co
 bool IsMultiple(double v, double res) {
   double q = v / res;
   return std::fabs(q - std::round(q)) < 1e-9 * std::max(1.0, std::fabs(q));
-}
-
-// The command code a commanded guard requires: a positive atom "<own>u[i]==c" in the guard's
-// top-level conjunction. 0 when the guard reads the command some other way.
-int RequiredCommand(const Expr& e, int self) {
-  if (e.op == Expr::Op::kAtom)
-    return (e.var_kind == VarKind::kCommand && e.target == self && !e.not_equal) ? e.value_code : 0;
-  if (e.op == Expr::Op::kAnd) {
-    int l = RequiredCommand(e.kids[0], self), r = RequiredCommand(e.kids[1], self);
-    if (l && r) return l == r ? l : -1;  // two different commands: never enabled
-    return l ? l : r;
-  }
-  return 0;
 }
 
 // "distribution": {"kind": "uniform"} or {"kind": "normal", "mean": m, "sd": s}.

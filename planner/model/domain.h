@@ -74,6 +74,10 @@ Domain PlanningDomain(const Domain& d, bool planner_picks);
 // declared values; errors in a template point at the template and name the instance. On any
 // error returns nullopt with every problem in diags, each at the JSON pointer of the offending
 // value (and the offset inside a guard string). Never throws.
+// The command code a guard requires of automaton `automaton`: a positive atom "<name>u[i]==c" in
+// its top-level conjunction. 0 when it requires none that way, -1 when two different ones.
+int RequiredCommand(const Expr& guard, int automaton);
+
 std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags);
 // The same with template parameters overridden; *expansion (when given) receives the expanded
 // document, also when the domain does not load (unless the expansion itself failed).

@@ -1,5 +1,7 @@
 #include "planner/search/expand.h"
 
+#include <set>
+
 #include <algorithm>
 #include <cmath>
 
@@ -112,26 +114,61 @@ StageView Expander::View(const Node& n) const {
   return v;
 }
 
+bool Expander::Partners(const Node& n, Candidate& c, std::vector<int>& cmd) const {
+  std::vector<std::pair<int, int>> todo = {{c.automaton, c.transition}};
+  while (!todo.empty()) {
+    auto [a, ti] = todo.back();
+    todo.pop_back();
+    const Transition& tr = d_.automata[a].transitions[ti];
+    for (int b : tr.guard_info.commands_read) {
+      const int want = RequiredCommand(tr.guard, b);
+      if (want <= 0 || (cmd[b] != 0 && cmd[b] != want)) return false;
+      if (cmd[b] == want) continue;
+      cmd[b] = want;
+      c.commands.emplace_back(b, want);
+      for (int tj : out_[b][n.loc[b]])
+        if (d_.automata[b].transitions[tj].commanded && d_.automata[b].transitions[tj].command == want) {
+          c.with.emplace_back(b, tj);
+          todo.emplace_back(b, tj);
+        }
+    }
+  }
+  for (const auto& [a, ti] : c.Members())
+    if (!GuardHolds(d_.automata[a].transitions[ti], n.loc, cmd)) return false;
+  return true;
+}
+
 std::vector<Candidate> Expander::Candidates(const Node& n, const StageView& v) const {
   std::vector<Candidate> out;
+  std::set<std::vector<std::pair<int, int>>> groups;  // each group of commands offered once
   std::vector<int> cmd(d_.automata.size(), 0);
   for (std::size_t a = 0; a < d_.automata.size(); ++a) {
     for (int ti : out_[a][n.loc[a]]) {
       const Transition& tr = d_.automata[a].transitions[ti];
+      Candidate c{static_cast<int>(a), ti, std::max(n.time, earliest_), kInfinity, {}, {}};
       if (tr.commanded) {
         if (tr.command <= 0) continue;  // a guard that names no single command: not chosen here
+        std::fill(cmd.begin(), cmd.end(), 0);
         cmd[a] = tr.command;
-        const bool holds = GuardHolds(tr, n.loc, cmd);
-        cmd[a] = 0;
-        if (!holds) continue;
+        if (!Partners(n, c, cmd)) continue;
+        std::erase(c.commands, std::pair{static_cast<int>(a), tr.command});
+        std::erase(c.with, std::pair{static_cast<int>(a), ti});
+        if (!c.commands.empty()) {
+          auto key = c.commands;
+          key.emplace_back(static_cast<int>(a), tr.command);
+          std::sort(key.begin(), key.end());
+          if (!groups.insert(std::move(key)).second) continue;
+        }
       } else if (!tr.controllable ||
                  std::find(v.enabled[a].begin(), v.enabled[a].end(), ti) == v.enabled[a].end()) {
         continue;
       }
-      Candidate c{static_cast<int>(a), ti,
-                  std::max({n.time, earliest_, n.entry[a] + Ticks(tr.duration.lo)}),
-                  tr.duration.hi ? n.entry[a] + Ticks(*tr.duration.hi) : kInfinity};
-      if (c.earliest <= c.latest) out.push_back(c);
+      for (auto [b, tj] : c.Members()) {
+        const Transition& t = d_.automata[b].transitions[tj];
+        c.earliest = std::max(c.earliest, n.entry[b] + Ticks(t.duration.lo));
+        if (t.duration.hi) c.latest = std::min(c.latest, n.entry[b] + Ticks(*t.duration.hi));
+      }
+      if (c.earliest <= c.latest) out.push_back(std::move(c));
     }
   }
   return out;
@@ -185,17 +222,24 @@ std::optional<Node> Expander::Root() const {
 }
 
 std::optional<Node> Expander::Apply(const Node& parent, const StageView& v,
-                                    const std::vector<std::pair<int, int>>& chosen,
-                                    long time) const {
+                                    const std::vector<std::pair<int, int>>& chosen, long time,
+                                    const std::vector<std::pair<int, int>>& given) const {
   const std::size_t na = d_.automata.size();
   if (time < parent.time || time < earliest_) return std::nullopt;
   std::vector<int> cmd(na, 0), pick(na, -1);
   std::vector<char> touched(na, 0);
+  for (auto [a, c] : given) {
+    if (cmd[a] != 0 && cmd[a] != c) return std::nullopt;
+    cmd[a] = c;
+    touched[a] = 1;
+    for (int b : readers_[a]) touched[b] = 1;
+  }
   for (auto [a, ti] : chosen) {
     if (pick[a] >= 0) return std::nullopt;
     const Transition& tr = d_.automata[a].transitions[ti];
     pick[a] = ti;
-    cmd[a] = tr.commanded ? tr.command : 0;
+    if (cmd[a] != 0 && tr.commanded && cmd[a] != tr.command) return std::nullopt;
+    if (cmd[a] == 0) cmd[a] = tr.commanded ? tr.command : 0;
     touched[a] = 1;
     for (int b : readers_[a]) touched[b] = 1;
   }

@@ -54,6 +54,18 @@ struct Candidate {
   int transition = 0;
   long earliest = 0;
   long latest = 0;  // kInfinity when unbounded
+  // Commands given to other automata on the same stage because this transition's guard, and the
+  // guards of the transitions those commands enable, read them (a PDDL action compiled onto
+  // several objects, docs/pddl.md). A given command whose transition is enabled fires with it.
+  std::vector<std::pair<int, int>> commands;  // (automaton, command)
+  std::vector<std::pair<int, int>> with;      // the transitions those commands make fire
+
+  // The transitions that fire together: this one and `with`.
+  std::vector<std::pair<int, int>> Members() const {
+    std::vector<std::pair<int, int>> all = {{automaton, transition}};
+    all.insert(all.end(), with.begin(), with.end());
+    return all;
+  }
 };
 
 constexpr long kInfinity = 1L << 60;
@@ -85,8 +97,11 @@ class Expander {
 
   // The next event at `time`, the chosen transitions firing there (their commands given on the
   // stage before), with whatever else must fire. nullopt when the verifier would refuse it.
+  // `given`: (automaton, command) pairs given on the stage before without choosing a transition
+  // (Candidate::commands); an enabled transition they command fires.
   std::optional<Node> Apply(const Node& parent, const StageView& v,
-                            const std::vector<std::pair<int, int>>& chosen, long time) const;
+                            const std::vector<std::pair<int, int>>& chosen, long time,
+                            const std::vector<std::pair<int, int>>& given = {}) const;
 
   // A key of the node's future: locations, clocks capped where no bound reads them further,
   // monitors with their relative times.
@@ -99,6 +114,10 @@ class Expander {
   bool GuardHolds(const Transition& tr, const std::vector<int>& loc,
                   const std::vector<int>& cmd) const;
   std::vector<int> Enabled(int a, const std::vector<int>& loc, const std::vector<int>& cmd) const;
+  // The commands the guards of c's transition and of the transitions they enable require of
+  // other automata (RequiredCommand), filled into c.commands and c.with; false when a guard reads
+  // a command it does not name or two guards disagree.
+  bool Partners(const Node& n, Candidate& c, std::vector<int>& cmd) const;
   // The monitors' update at event j (the verifier's episode, temporal, goal and maintenance
   // rules); false when the run can no longer be valid.
   bool UpdateMonitors(const Node* prev, Node& n) const;

@@ -176,14 +176,15 @@ class Search {
     const std::vector<long> targets = ex_.Targets(n);
     const auto& helpful = helpful_[idx];
     auto is_helpful = [&](const Candidate& c) {
-      return std::find(helpful.begin(), helpful.end(), std::pair{c.automaton, c.transition}) !=
-             helpful.end();
+      for (const auto& m : c.Members())
+        if (std::find(helpful.begin(), helpful.end(), m) != helpful.end()) return true;
+      return false;
     };
     auto singles = [&](const Candidate& c, Rank rank) {
-      Add(idx, ex_.Apply(n, v, {{c.automaton, c.transition}}, c.earliest), rank);
+      const std::vector<std::pair<int, int>> lead = {{c.automaton, c.transition}};
+      Add(idx, ex_.Apply(n, v, lead, c.earliest, c.commands), rank);
       for (long t : targets)
-        if (t > c.earliest && t <= c.latest)
-          Add(idx, ex_.Apply(n, v, {{c.automaton, c.transition}}, t), rank);
+        if (t > c.earliest && t <= c.latest) Add(idx, ex_.Apply(n, v, lead, t, c.commands), rank);
     };
     if (!preferred) {
       for (const Candidate& c : cands)
@@ -206,19 +207,27 @@ class Search {
                             const std::vector<const Candidate*>& mine) {
     long at = search::kInfinity;
     for (const Candidate* c : mine) at = std::min(at, c->earliest);
-    std::vector<std::pair<int, int>> chosen;
+    std::vector<std::pair<int, int>> chosen, given;
     std::vector<char> taken(d_.automata.size(), 0);
+    int picked = 0;
     for (const Candidate* c : mine) {
-      if (taken[c->automaton] || c->earliest > at || c->latest < at) continue;
+      if (c->earliest > at || c->latest < at) continue;
+      bool free = !taken[c->automaton];
+      for (auto [a, cmd] : c->commands) free = free && !taken[a];
+      if (!free) continue;
       chosen.emplace_back(c->automaton, c->transition);
-      if (ex_.Apply(n, v, chosen, at)) {
+      given.insert(given.end(), c->commands.begin(), c->commands.end());
+      if (ex_.Apply(n, v, chosen, at, given)) {
         taken[c->automaton] = 1;
+        for (auto [a, cmd] : c->commands) taken[a] = 1;
+        ++picked;
       } else {
         chosen.pop_back();
+        given.resize(given.size() - c->commands.size());
       }
     }
-    if (chosen.size() < 2) return std::nullopt;
-    return ex_.Apply(n, v, chosen, at);
+    if (picked < 2) return std::nullopt;
+    return ex_.Apply(n, v, chosen, at, given);
   }
 
   Trajectory Build(int idx) const {
