@@ -1,3 +1,4 @@
+#include "planner/model/elapsed.h"
 #include "planner/replan/replan.h"
 
 #include <algorithm>
@@ -62,10 +63,6 @@ std::optional<Error> ReadReplanRequest(const Json& body, ReplanRequest& out, Kee
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
 
 Json Seconds(long ticks, long tps) {
   if (tps == 1) return ticks;

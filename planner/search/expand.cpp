@@ -121,21 +121,26 @@ bool Expander::Partners(const Node& n, Candidate& c, std::vector<int>& cmd) cons
     todo.pop_back();
     const Transition& tr = d_.automata[a].transitions[ti];
     for (int b : tr.guard_info.commands_read) {
+      // A command the guard reads some other way (`!=`, a disjunction) is left as no command:
+      // the guard check below decides, as it did before groups.
       const int want = RequiredCommand(tr.guard, b);
-      if (want <= 0 || (cmd[b] != 0 && cmd[b] != want)) return false;
-      if (cmd[b] == want) continue;
+      if (want <= 0 || cmd[b] != 0) continue;
       cmd[b] = want;
       c.commands.emplace_back(b, want);
-      for (int tj : out_[b][n.loc[b]])
-        if (d_.automata[b].transitions[tj].commanded && d_.automata[b].transitions[tj].command == want) {
-          c.with.emplace_back(b, tj);
-          todo.emplace_back(b, tj);
-        }
+      for (int tj : out_[b][n.loc[b]]) {
+        const Transition& other = d_.automata[b].transitions[tj];
+        if (!other.commanded || other.command != want) continue;
+        todo.emplace_back(b, tj);
+        c.with.emplace_back(b, tj);
+      }
     }
   }
-  for (const auto& [a, ti] : c.Members())
-    if (!GuardHolds(d_.automata[a].transitions[ti], n.loc, cmd)) return false;
-  return true;
+  // The partners' transitions that fire are those whose guards hold with every command given;
+  // an automaton whose command enables none only carries it (Apply checks the whole event).
+  std::erase_if(c.with, [&](const std::pair<int, int>& m) {
+    return !GuardHolds(d_.automata[m.first].transitions[m.second], n.loc, cmd);
+  });
+  return GuardHolds(d_.automata[c.automaton].transitions[c.transition], n.loc, cmd);
 }
 
 std::vector<Candidate> Expander::Candidates(const Node& n, const StageView& v) const {

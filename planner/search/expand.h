@@ -115,8 +115,8 @@ class Expander {
                   const std::vector<int>& cmd) const;
   std::vector<int> Enabled(int a, const std::vector<int>& loc, const std::vector<int>& cmd) const;
   // The commands the guards of c's transition and of the transitions they enable require of
-  // other automata (RequiredCommand), filled into c.commands and c.with; false when a guard reads
-  // a command it does not name or two guards disagree.
+  // other automata (RequiredCommand), filled into c.commands and c.with; false when a guard of
+  // the group does not hold with them (two guards that want different commands of one automaton).
   bool Partners(const Node& n, Candidate& c, std::vector<int>& cmd) const;
   // The monitors' update at event j (the verifier's episode, temporal, goal and maintenance
   // rules); false when the run can no longer be valid.

@@ -1,5 +1,6 @@
 // Unsatisfiable cores: one model with a literal per part, checks under subsets of the literals,
 // a deletion filter over the core.
+#include "planner/model/elapsed.h"
 #include "planner/smt/z3_core.h"
 
 #include <algorithm>
@@ -13,10 +14,6 @@ namespace ctb::smt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
 
 // The literals of the model: parts not listed always hold (the literal `true`).
 PartLiterals Literals(Model& m, const std::vector<CorePart>& parts, Exprs& listed) {

@@ -1,6 +1,7 @@
 // Solving one model with z3: build the terms, find plans by satisfiability with a tightening
 // bound, hand a stalled search to z3's optimizer, until the time limit or cancellation interrupts
 // the context.
+#include "planner/model/elapsed.h"
 #include "planner/smt/z3_engine.h"
 
 #include <algorithm>
@@ -17,10 +18,6 @@ namespace ctb::smt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
 
 long Value(const z3::model& mod, const z3::expr& v) {
   int64_t out = 0;

@@ -1,3 +1,4 @@
+#include "planner/model/elapsed.h"
 #include "planner/solve/controllable.h"
 
 #include <chrono>
@@ -22,10 +23,6 @@ Error InternalError(std::string message) {
   e.code = ErrorCode::kInternal;
   e.message = std::move(message);
   return e;
-}
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
 }
 
 struct Search {

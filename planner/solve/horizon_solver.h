@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "planner/model/elapsed.h"
 #include "planner/model/trajectory.h"
 #include "planner/solve/solve.h"
 
@@ -12,9 +13,6 @@ namespace ctb::solve {
 
 using Clock = std::chrono::steady_clock;
 
-inline long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
 
 struct Plan {
   Trajectory traj;

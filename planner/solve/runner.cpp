@@ -1,3 +1,4 @@
+#include "planner/model/elapsed.h"
 #include "planner/solve/runner.h"
 
 #include <fcntl.h>
@@ -43,10 +44,6 @@ constexpr std::size_t kMaxStderr = 16 * 1024;
 constexpr std::size_t kMaxLine = 64 * 1024 * 1024;
 constexpr long kGraceMs = 1500;   // after the time limit, before SIGTERM
 constexpr long kTermMs = 1000;    // after SIGTERM, before SIGKILL
-
-long MsSince(Clock::time_point t0) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-}
 
 // A temporary directory removed on destruction.
 struct TempDir {

@@ -19,7 +19,6 @@ namespace ctb {
 
 using solve::Clock;
 using solve::Core;
-using solve::MsSince;
 using solve::SolveOneModel;
 using solve::SolveParts;
 
