@@ -1,3 +1,4 @@
+#include "planner/model/number_text.h"
 #include "planner/analyze/analyze.h"
 
 #include <algorithm>
@@ -16,12 +17,6 @@ namespace ctb {
 using namespace analysis;  // NOLINT: the abstraction is this file's vocabulary
 
 namespace {
-
-std::string Num(double v) {
-  if (std::fabs(v - std::round(v)) < 1e-9) return std::to_string(std::llround(v));
-  Json j(v);
-  return j.dump();
-}
 
 std::string EpisodePointer(const Episode& e) { return "/constraints/episodes/" + PointerToken(e.name); }
 std::string TemporalPointer(const Temporal& t) { return "/constraints/temporal/" + PointerToken(t.name); }
@@ -210,8 +205,8 @@ class Checker {
       if (MayHold(ab, {AtEvent(tc.event1), AtEvent(tc.event2)})) gap = 0;
       if (gap > tc.upper + 1e-9) {
         Add({"deadline", parts(p),
-             "Temporal constraint " + tc.name + " allows at most " + Num(tc.upper) +
-                 " s between its two events, but the automata need at least " + Num(gap) +
+             "Temporal constraint " + tc.name + " allows at most " + NumberText(tc.upper) +
+                 " s between its two events, but the automata need at least " + NumberText(gap) +
                  " s to get from one to the other" + under + ".",
              BoundHint{p + "/upper_bound", gap}, {BoundHint{p + "/upper_bound", gap}}}, true);
       }

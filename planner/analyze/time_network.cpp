@@ -1,3 +1,4 @@
+#include "planner/model/number_text.h"
 #include "planner/analyze/time_network.h"
 
 #include <algorithm>
@@ -10,12 +11,6 @@ namespace ctb::analysis {
 namespace {
 
 constexpr double kEps = 1e-9;
-
-std::string Num(double v) {
-  if (std::fabs(v - std::round(v)) < 1e-9) return std::to_string(std::llround(v));
-  Json j(v);
-  return j.dump();
-}
 
 bool PositiveLocation(const Expr& e) {
   return e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && !e.not_equal &&
@@ -277,7 +272,7 @@ class Network {
     auto parts = Automata();
     parts.insert(extra.begin(), extra.end());
     Add(y, x, -gap, parts,
-        nodes_[y].desc + " comes at least " + Num(gap) + " s after " + nodes_[x].desc + Under());
+        nodes_[y].desc + " comes at least " + NumberText(gap) + " s after " + nodes_[x].desc + Under());
   }
 
   void BuildEdges() {
@@ -295,26 +290,26 @@ class Network {
         if (tc) t = std::min(EarliestOf(tc->event1.raw, arr_), EarliestOf(tc->event2.raw, arr_));
       }
       if (t > kEps && !std::isinf(t))
-        Add(v, 0, -t, Automata(), x.desc + " cannot come before " + Num(t) + " s" + Under());
+        Add(v, 0, -t, Automata(), x.desc + " cannot come before " + NumberText(t) + " s" + Under());
       if (x.first && x.cond && SurelyInitially(*x.cond))
         Add(0, v, 0, {}, x.desc + " is at the start (its condition holds in the initial state)");
     }
     for (std::size_t p = 0; p < ep_.size(); ++p) {
       const Episode& ep = sp_.episodes[p];
       const std::string ptr = nodes_[ep_[p].s].owner;
-      Add(ep_[p].s, ep_[p].e, ep.upper, {}, "episode " + ep.name + " lasts at most " + Num(ep.upper) + " s",
+      Add(ep_[p].s, ep_[p].e, ep.upper, {}, "episode " + ep.name + " lasts at most " + NumberText(ep.upper) + " s",
           ptr + "/upper_bound");
-      Add(ep_[p].e, ep_[p].s, -ep.lower, {}, "episode " + ep.name + " lasts at least " + Num(ep.lower) + " s",
+      Add(ep_[p].e, ep_[p].s, -ep.lower, {}, "episode " + ep.name + " lasts at least " + NumberText(ep.lower) + " s",
           ptr + "/lower_bound");
     }
     for (std::size_t q = 0; q < tc_.size(); ++q) {
       const Temporal& tc = sp_.temporals[q];
       const std::string ptr = nodes_[tc_[q].a].owner;
       Add(tc_[q].a, tc_[q].b, tc.upper, {},
-          "temporal constraint " + tc.name + " allows at most " + Num(tc.upper) + " s between its events",
+          "temporal constraint " + tc.name + " allows at most " + NumberText(tc.upper) + " s between its events",
           ptr + "/upper_bound");
       Add(tc_[q].b, tc_[q].a, -tc.lower, {},
-          "temporal constraint " + tc.name + " needs at least " + Num(tc.lower) + " s between its events",
+          "temporal constraint " + tc.name + " needs at least " + NumberText(tc.lower) + " s between its events",
           ptr + "/lower_bound");
       Travel(tc_[q].a, tc_[q].b, {});
     }
@@ -370,7 +365,7 @@ class Network {
     auto parts = Automata();
     Add(y, e, -gap, parts,
         nodes_[y].desc + " comes after the end of episode " + ep.name + " (its state constraint "
-        "rules it out until then)" + (gap > kEps ? ", at least " + Num(gap) + " s after it" : "") +
+        "rules it out until then)" + (gap > kEps ? ", at least " + NumberText(gap) + " s after it" : "") +
             Under());
   }
 
@@ -490,7 +485,7 @@ class Network {
       e.parts.insert(nodes_[first].owner);
       e.parts.insert(nodes_[later].owner);
       e.parts.erase("");
-      e.why = g > kEps ? nodes_[later].desc + " comes at least " + Num(g) + " s after " +
+      e.why = g > kEps ? nodes_[later].desc + " comes at least " + NumberText(g) + " s after " +
                              nodes_[first].desc + Under()
                        : "";
       edges.push_back(e);
@@ -534,7 +529,7 @@ class Network {
       if (e.why.empty()) continue;
       s += (s.empty() ? "" : "; ") + e.why;
     }
-    if (sum < 0 && !std::isinf(sum)) s += " (" + Num(-sum) + " s too little)";
+    if (sum < 0 && !std::isinf(sum)) s += " (" + NumberText(-sum) + " s too little)";
     return s;
   }
 

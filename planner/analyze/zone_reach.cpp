@@ -1,6 +1,7 @@
 // The zone search's conflicts (zone_reach.h): the search of zone_search.cpp on the whole plan,
 // a deletion filter over its parts, and per bound of the parts the least value it no longer
 // refutes (a binary search; refutation is monotone: a tighter bound keeps fewer runs).
+#include "planner/model/number_text.h"
 #include "planner/analyze/zone_reach.h"
 
 #include <algorithm>
@@ -22,12 +23,6 @@ constexpr long kStateBudget = 60000;
 // successors for a proof within the budget (a team of 8 robots and 3 doors spent it all without
 // one), and the search is not started.
 constexpr std::size_t kMaxAutomata = 8;
-
-std::string Num(double v) {
-  if (std::fabs(v - std::round(v)) < 1e-9) return std::to_string(std::llround(v));
-  Json j(v);
-  return j.dump();
-}
 
 // A part of the state plan the search can drop: its pointer and where its flag is.
 struct Part {
@@ -162,7 +157,7 @@ class Conflict {
       const std::string kind =
           part.find("/episodes/") != std::string::npos ? "episode " : "temporal constraint ";
       needs += (needs.empty() ? "" : "; ") + kind + name + " would need " +
-               (upper ? "at least " : "at most ") + Num(h.value) + " s as its " +
+               (upper ? "at least " : "at most ") + NumberText(h.value) + " s as its " +
                (upper ? "upper" : "lower") + " bound";
     }
     return needs.empty() ? s + "." : s + ": " + needs + ".";
