@@ -244,15 +244,22 @@ void ExpectOneIssue(const std::vector<Issue>& issues, const std::string& action,
       << issues[0].ToString();
 }
 
-// An action changing two state variables: both take its command at its start and leave their
-// step locations together at its end, each guarded by the other's command and location.
-TEST(PddlImportRules, ActionChangingTwoStateVariables) {
-  Source two = WithAction(R"((:durative-action boot-and-connect
+// One action that boots the computer and connects the cable, and a state plan that wants both.
+const char* const kBootAndConnect = R"((:durative-action boot-and-connect
     :parameters (?c - computer ?k - cable)
     :duration (= ?duration 15)
     :condition (and (at start (comp-off ?c)) (at start (disconnected ?k)))
     :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c))
-                 (at start (not (disconnected ?k))) (at end (connected ?k)))))");
+                 (at start (not (disconnected ?k))) (at end (connected ?k)))))";
+const char* const kBootAndConnectPlan = R"({
+    "initial_state": {"comp": "comp_off", "conn": "disconnected", "proj": "proj_off"},
+    "end_state": {"maintenance_constraint": "true",
+                  "goal_constraint": "compl[i+1]==comp_on /\\ connl[i+1]==connected"}})";
+
+// An action changing two state variables: both take its command at its start and leave their
+// step locations together at its end, each guarded by the other's command and location.
+TEST(PddlImportRules, ActionChangingTwoStateVariables) {
+  Source two = WithAction(kBootAndConnect);
   Imported im = MustImport(two, std::nullopt);
   const Json* comp = FindAutomaton(im.domain, "comp");
   const Json* conn = FindAutomaton(im.domain, "conn");
@@ -273,10 +280,7 @@ TEST(PddlImportRules, ActionChangingTwoStateVariables) {
   EXPECT_EQ((*ks)["cost"], 0);
   // Both at once: its start and its end cost 1 each (2), where connect (an instant, 2) then boot
   // (1 + 1) would cost 4.
-  Json plan = Json::parse(R"({
-    "initial_state": {"comp": "comp_off", "conn": "disconnected", "proj": "proj_off"},
-    "end_state": {"maintenance_constraint": "true",
-                  "goal_constraint": "compl[i+1]==comp_on /\\ connl[i+1]==connected"}})");
+  Json plan = Json::parse(kBootAndConnectPlan);
   Json t = SolveImported(im.domain, plan);
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "optimal");
@@ -313,17 +317,9 @@ TEST(PddlImport, TheFirstPlanEngineFindsPlansOfActionsOnSeveralObjects) {
   ASSERT_TRUE(r.best) << "expanded " << r.expanded << ", generated " << r.generated;
   EXPECT_GE(r.makespan, 11);  // the optimum (SearchRescueSolvesToTheShippedOptimum)
 
-  Source two = WithAction(R"((:durative-action boot-and-connect
-    :parameters (?c - computer ?k - cable)
-    :duration (= ?duration 15)
-    :condition (and (at start (comp-off ?c)) (at start (disconnected ?k)))
-    :effect (and (at start (not (comp-off ?c))) (at end (comp-on ?c))
-                 (at start (not (disconnected ?k))) (at end (connected ?k)))))");
+  Source two = WithAction(kBootAndConnect);
   Imported im = MustImport(two, std::nullopt);
-  Json plan = Json::parse(R"({
-    "initial_state": {"comp": "comp_off", "conn": "disconnected", "proj": "proj_off"},
-    "end_state": {"maintenance_constraint": "true",
-                  "goal_constraint": "compl[i+1]==comp_on /\\ connl[i+1]==connected"}})");
+  Json plan = Json::parse(kBootAndConnectPlan);
   FirstPlanResult both = first(im.domain, plan, Objective::kCost);
   ASSERT_TRUE(both.best) << "expanded " << both.expanded << ", generated " << both.generated;
   EXPECT_EQ(both.cost, 2);  // the joint action's start and end (ActionChangingTwoStateVariables)
