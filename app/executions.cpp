@@ -16,6 +16,8 @@ namespace {
 
 constexpr std::size_t kKeptEvents = 500;  // per execution, in the store and in GET
 constexpr int kMaxReplansInARow = 8;
+// A replan plans from at most this far ahead (wall time): a replan slower than that is late.
+constexpr long kMaxReplanLeadMs = 5000;
 
 // The store's 503: "the execution store failed (why); <what then>".
 Error StoreFailed(const SessionStore& store, const std::string& then) {
@@ -58,6 +60,9 @@ struct Executions::Live {
   long origin_ms = 0;
   long replans = 0;
   int replans_in_a_row = 0;  // without a report between them
+  // How long the last replan took, in plan seconds: the next one plans from that far ahead, so
+  // that its first moments are not already past when it is adopted (a slow machine, a high speed).
+  double replan_lead = 0;
   std::vector<ExecutionEvent> events;
   long seq = 0;
   std::optional<std::string> pending_replan;
@@ -203,7 +208,7 @@ void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex
   ReplanCall call;
   call.domain.loaded = live->domain;
   call.state_plan = live->stored.doc["state_plan"];
-  call.request = live->run.ReplanRequest(now);
+  call.request = live->run.ReplanRequest(now + live->replan_lead);
   call.options = live->options;
   const std::size_t seen = live->run.history().size();
   CallContext ctx;
@@ -212,6 +217,7 @@ void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex
   lk.unlock();
   auto r = core_.Replan(call, ctx);
   lk.lock();
+  live->replan_lead = std::min<double>(store::NowMs() - t0, kMaxReplanLeadMs) / 1000.0 * live->speed;
   if (live->shutdown || live->run.state() != exec::State::kRunning) return;
   if (auto* e = std::get_if<Error>(&r)) {
     live->run.Finish(exec::State::kFailed, "replanning failed: " + e->message);

@@ -339,11 +339,6 @@ std::variant<Applied, Error> Run::Apply(const Report& r, double now_s, const std
   }
   const Automaton& a = d_->automata[ai];
   const std::string here = a.locations[location_[ai]];
-  if (t > ToTicks(now_s) + grace_)
-    diags.Error(prefix + "/time", "after now (" + Json(now_s).dump() + " s): a report tells what happened");
-  else if (t < entered_[ai])
-    diags.Error(prefix + "/time", "before " + a.name + "'s last transition, at " +
-                                      Json(ToSeconds(entered_[ai])).dump() + " s");
   if (state_ != State::kRunning) diags.Error(prefix.empty() ? "/" : prefix, "the execution is " + std::string(StateName(state_)));
   const Transition* tr = nullptr;
   int to = -1;
@@ -361,6 +356,12 @@ std::variant<Applied, Error> Run::Apply(const Report& r, double now_s, const std
       diags.Error(prefix + "/failed", a.name + " is at " + here + " and has no command '" +
                                           Echo(*r.failed) + "' there");
   }
+  // What was reported before when: a device that names a place it cannot be has that error first.
+  if (t > ToTicks(now_s) + grace_)
+    diags.Error(prefix + "/time", "after now (" + Json(now_s).dump() + " s): a report tells what happened");
+  else if (t < entered_[ai])
+    diags.Error(prefix + "/time", "before " + a.name + "'s last transition, at " +
+                                      Json(ToSeconds(entered_[ai])).dump() + " s");
   if (!diags.ok()) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid report", diags);
   reports_.push_back(r);
   if (r.failed) {
