@@ -6,23 +6,19 @@ namespace ctb::app {
 
 namespace {
 
-BudgetExceeded Over(const std::string& pointer, const char* limit, long value, long actual,
-                    const std::string& what) {
+Error Over(const std::string& pointer, const char* limit, long value, long actual,
+           const std::string& what) {
   std::string msg = what + ": " + std::to_string(actual) + ", over the server's limit of " +
                     std::to_string(value) + " (" + limit + ")";
-  BudgetExceeded b;
-  b.error = Error{ErrorCode::kTooLarge, "the model is larger than this server accepts: " + msg,
-                  {{pointer.empty() ? "/" : pointer, std::nullopt, msg}}};
-  b.limit = limit;
-  b.value = value;
-  b.actual = actual;
-  return b;
+  return Error{ErrorCode::kTooLarge, "the model is larger than this server accepts: " + msg,
+               {{pointer.empty() ? "/" : pointer, std::nullopt, msg}},
+               Limit{limit, value, actual}};
 }
 
 // Every string (keys too) within the per-string and total limits; the first offender is named.
-std::optional<BudgetExceeded> Strings(const Json& j, const ModelBudget& b, const std::string& ptr,
-                                      long& total) {
-  auto one = [&](const std::string& s, const std::string& where) -> std::optional<BudgetExceeded> {
+std::optional<Error> Strings(const Json& j, const ModelBudget& b, const std::string& ptr,
+                             long& total) {
+  auto one = [&](const std::string& s, const std::string& where) -> std::optional<Error> {
     const long n = static_cast<long>(s.size());
     if (n > b.max_string_bytes) return Over(where, "max_string_bytes", b.max_string_bytes, n, "string bytes");
     total += n;
@@ -46,7 +42,9 @@ std::optional<BudgetExceeded> Strings(const Json& j, const ModelBudget& b, const
 
 }  // namespace
 
-Json BudgetExceeded::ToJson() const { return {{"name", limit}, {"value", value}, {"actual", actual}}; }
+Json LimitJson(const Limit& l) {
+  return {{"name", l.name}, {"value", l.value}, {"actual", l.actual}};
+}
 
 long StringBytes(const Json& j) {
   long n = 0;
@@ -58,8 +56,8 @@ long StringBytes(const Json& j) {
   return n;
 }
 
-std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBudget& b,
-                                               const std::string& pointer) {
+std::optional<Error> CheckActionModel(const Json& model, const ModelBudget& b,
+                                      const std::string& pointer) {
   if (!model.is_object()) return std::nullopt;
   auto automata = model.find("automata");
   if (automata != model.end() && automata->is_array()) {
@@ -99,8 +97,8 @@ std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBud
   return Strings(model, b, pointer, total);
 }
 
-std::optional<BudgetExceeded> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
-                                                  const std::string& pointer) {
+std::optional<Error> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
+                                         const std::string& pointer) {
   const std::string at = pointer + "/automata";
   const char* after = " after expanding templates";
   const long k = static_cast<long>(d.automata.size());
@@ -126,8 +124,8 @@ std::optional<BudgetExceeded> CheckExpandedDomain(const Domain& d, const ModelBu
   return std::nullopt;
 }
 
-std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget& b,
-                                             const std::string& pointer, long string_total) {
+std::optional<Error> CheckStatePlan(const Json& plan, const ModelBudget& b,
+                                    const std::string& pointer, long string_total) {
   if (!plan.is_object()) return std::nullopt;
   if (auto c = plan.find("constraints"); c != plan.end() && c->is_object()) {
     long n = 0;

@@ -8,8 +8,8 @@
 //  - every string (an expression or a name) and all strings together, which also bounds the
 //    "did you mean" work of the checker (unknown names x candidates).
 // Over budget: an Error with code kTooLarge (413) whose detail is the JSON pointer of the part that
-// exceeds the limit, plus the limit's name, value and the actual figure. Never throws; input of the
-// wrong shape is left to the loader to report.
+// exceeds the limit, and whose `limit` holds the limit's name, value and the actual figure. Never
+// throws; input of the wrong shape is left to the loader to report.
 #pragma once
 
 #include <optional>
@@ -32,26 +32,21 @@ struct ModelBudget {
   long max_string_total = 65536;
 };
 
-struct BudgetExceeded {
-  Error error;          // kTooLarge, detail pointer = what exceeds the limit
-  std::string limit;    // e.g. "max_locations_per_automaton"
-  long value = 0;       // the limit
-  long actual = 0;      // what the request asked for
-  Json ToJson() const;  // {"name", "value", "actual"}
-};
+// {"name", "value", "actual"}: how the HTTP and gRPC front ends show an Error's limit.
+Json LimitJson(const Limit& l);
 
 // `pointer` is where the JSON sits in the request ("/action_model", "/state_plan").
-std::optional<BudgetExceeded> CheckActionModel(const Json& model, const ModelBudget& b,
-                                               const std::string& pointer);
+std::optional<Error> CheckActionModel(const Json& model, const ModelBudget& b,
+                                      const std::string& pointer);
 // The same limits on the model as loaded, templates expanded (a template's parameters can make a
 // short document a large model); counts only, the strings were checked as written. The detail's
 // pointer is `pointer`/automata; the message says "after expanding templates".
-std::optional<BudgetExceeded> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
-                                                  const std::string& pointer);
+std::optional<Error> CheckExpandedDomain(const Domain& d, const ModelBudget& b,
+                                         const std::string& pointer);
 // `string_total` carries the string bytes already counted (the inline action model's) so the
 // total bound covers both parts of one request.
-std::optional<BudgetExceeded> CheckStatePlan(const Json& plan, const ModelBudget& b,
-                                             const std::string& pointer, long string_total = 0);
+std::optional<Error> CheckStatePlan(const Json& plan, const ModelBudget& b,
+                                    const std::string& pointer, long string_total = 0);
 
 // String bytes in a JSON value (keys and values), for the caller's running total.
 long StringBytes(const Json& j);

@@ -43,19 +43,11 @@ std::variant<std::string, Error> DocumentName(const Json& doc) {
 // Checks a document as an action model: the request budget, then templates and the domain
 // itself; pointers are relative to the document.
 std::optional<Error> CheckDocument(const Json& doc, const ModelBudget& budget) {
-  if (auto over = CheckActionModel(doc, budget, "")) {
-    Error e = over->error;
-    e.limit = over->ToJson().dump();
-    return e;
-  }
+  if (auto over = CheckActionModel(doc, budget, "")) return *over;
   Diagnostics d;
   auto dom = LoadDomain(doc, d);
   if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", d);
-  if (auto over = CheckExpandedDomain(*dom, budget, "")) {
-    Error e = over->error;
-    e.limit = over->ToJson().dump();
-    return e;
-  }
+  if (auto over = CheckExpandedDomain(*dom, budget, "")) return *over;
   return std::nullopt;
 }
 

@@ -12,7 +12,7 @@ std::optional<Error> TooLarge(const Json& body) {
     Error e{ErrorCode::kTooLarge,
             std::string("the network has more ") + field + " than " + std::to_string(limit),
             {{std::string("/") + field, std::nullopt, "at most " + std::to_string(limit)}}};
-    e.limit = Json({{"name", name}, {"value", limit}, {"actual", actual}}).dump();
+    e.limit = Limit{name, static_cast<long>(limit), static_cast<long>(actual)};
     return e;
   };
   if (!body.is_object()) return std::nullopt;

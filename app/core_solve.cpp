@@ -124,20 +124,12 @@ std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::ResolveDomain(
   if (ref.name.has_value() == ref.action_model.has_value())
     return Bad("give exactly one of \"domain\" and \"action_model\"", "/domain");
   if (ref.name) return NamedDomain(*ref.name);
-  if (auto over = CheckActionModel(*ref.action_model, cfg.budget, "/action_model")) {
-    Error e = over->error;
-    e.limit = over->ToJson().dump();
-    return e;
-  }
+  if (auto over = CheckActionModel(*ref.action_model, cfg.budget, "/action_model")) return *over;
   Diagnostics d, prefixed;
   auto dom = LoadDomain(*ref.action_model, d);
   for (const auto& e : d.errors()) prefixed.Error("/action_model" + e.pointer, e.message, e.offset);
   if (!dom) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid action model", prefixed);
-  if (auto over = CheckExpandedDomain(*dom, cfg.budget, "/action_model")) {
-    Error e = over->error;
-    e.limit = over->ToJson().dump();
-    return e;
-  }
+  if (auto over = CheckExpandedDomain(*dom, cfg.budget, "/action_model")) return *over;
   return std::make_shared<const Domain>(std::move(*dom));
 }
 
@@ -275,11 +267,8 @@ std::variant<Answer, Error> Core::SolveChecked(const SolveCall& call, const Call
   const Domain& domain = *std::get<std::shared_ptr<const Domain>>(dom);
   if (call.state_plan.is_null()) return Bad("missing \"state_plan\"", "/state_plan");
   const long model_strings = call.domain.action_model ? StringBytes(*call.domain.action_model) : 0;
-  if (auto over = CheckStatePlan(call.state_plan, impl_->cfg.budget, "/state_plan", model_strings)) {
-    Error e = over->error;
-    e.limit = over->ToJson().dump();
-    return e;
-  }
+  if (auto over = CheckStatePlan(call.state_plan, impl_->cfg.budget, "/state_plan", model_strings))
+    return *over;
   auto sp = impl_->CheckPlan(call.state_plan, domain, "/state_plan");
   if (auto* e = std::get_if<Error>(&sp)) return *e;
   auto opts = impl_->MakeOptions(call.options);

@@ -193,7 +193,7 @@ grpc::Status StatusOf(const Error& e) {
     v->set_description(d.offset ? "offset " + std::to_string(*d.offset) + ": " + d.message
                                 : d.message);
   }
-  if (!e.limit.empty()) text += "\nlimit: " + e.limit;
+  if (e.limit) text += "\nlimit: " + app::LimitJson(*e.limit).dump();
   const grpc::StatusCode code = CodeOf(e.code);
   // Busy or unavailable: when to try again, as HTTP's Retry-After says it (2 s and 1 s).
   const bool retry = e.code == ErrorCode::kBusy || e.code == ErrorCode::kUnavailable;

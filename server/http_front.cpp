@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "app/ids.h"
+#include "server/answer.h"
 #include "server/conn_watch.h"
 #include "server/limits.h"
 #include "server/log_context.h"
@@ -26,35 +27,6 @@ bool SaneRequestId(const std::string& id) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
       return false;
   return true;
-}
-
-void SendJson(httplib::Response& res, int status, const Json& j) {
-  res.status = status;
-  // Text from an LLM or an upstream error may hold invalid UTF-8: replaced, never thrown.
-  res.set_content(j.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
-}
-
-// {"error": {"code", "message", "path"?, "details"?, "limit"?, "request_id"?}} with the code's
-// HTTP status.
-void SendError(httplib::Response& res, const Error& e) {
-  Json err = {{"code", CodeName(e.code)}, {"message", e.message}};
-  if (!e.limit.empty()) err["limit"] = Json::parse(e.limit, nullptr, false);
-  if (const std::string rid = res.get_header_value("X-Request-Id"); !rid.empty())
-    err["request_id"] = rid;
-  if (!e.details.empty()) {
-    err["path"] = e.details[0].pointer.empty() ? "/" : e.details[0].pointer;
-    Json details = Json::array();
-    for (const auto& d : e.details) {
-      Json x = {{"path", d.pointer.empty() ? "/" : d.pointer}, {"message", d.message}};
-      if (d.offset) x["offset"] = *d.offset;
-      details.push_back(x);
-    }
-    err["details"] = details;
-  }
-  if (e.code == ErrorCode::kBusy) res.set_header("Retry-After", "2");
-  if (e.code == ErrorCode::kUnavailable) res.set_header("Retry-After", "1");
-  if (e.code == ErrorCode::kUnauthenticated) res.set_header("WWW-Authenticate", "Bearer");
-  SendJson(res, HttpStatus(e.code), {{"error", err}});
 }
 
 Error Bad(const std::string& msg, const std::string& path) {
@@ -194,66 +166,63 @@ class HttpFrontEnd::Impl {
     return ctx;
   }
 
-  void HandleSolve(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
-    auto body = Body(req, res);
-    if (!body) return;
-    if (auto e = CheckKeys(*body, {"domain", "action_model", "state_plan", "options"})) return SendError(res, *e);
+  RouteAnswer HandleSolve(const httplib::Request& req, const Json& body, app::Observer* obs) {
+    if (auto e = CheckKeys(body, {"domain", "action_model", "state_plan", "options"})) return *e;
     app::SolveCall call;
-    auto dom = DomainOf(*body);
-    if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+    auto dom = DomainOf(body);
+    if (auto* e = std::get_if<Error>(&dom)) return *e;
     call.domain = std::get<app::DomainRef>(dom);
-    if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
-    auto opts = OptionsOf(*body);
-    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    if (body.contains("state_plan")) call.state_plan = body["state_plan"];
+    auto opts = OptionsOf(body);
+    if (auto* e = std::get_if<Error>(&opts)) return *e;
     call.options = std::get<app::RequestOptions>(opts);
     auto r = core_.Solve(call, Context(req, obs));
-    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    if (auto* e = std::get_if<Error>(&r)) return *e;
     const auto& a = std::get<app::Answer>(r);
+    JsonReply reply{200, a.document};
     if (auto t = a.metrics.find("core_ms"); t != a.metrics.end())
-      res.set_header("Server-Timing", "core;dur=" + t->second);
-    SendJson(res, 200, a.document);
+      reply.headers.emplace("Server-Timing", "core;dur=" + t->second);
+    return reply;
   }
 
   // POST /replan (contract section 11): in a session, or with domain/action_model, state_plan
   // and trajectory; options may carry "keep".
-  void HandleReplan(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
-    auto body = Body(req, res);
-    if (!body) return;
-    if (auto e = CheckKeys(*body, {"session", "domain", "action_model", "state_plan", "trajectory",
+  RouteAnswer HandleReplan(const httplib::Request& req, const Json& body, app::Observer* obs) {
+    if (auto e = CheckKeys(body, {"session", "domain", "action_model", "state_plan", "trajectory",
                                    "now", "executed", "observed", "blocked", "options", "stream",
                                    "command"}))
-      return SendError(res, *e);
+      return *e;
     app::ReplanCall call;
-    auto command = OptString(*body, "command", "\"command\" must be a string: what happened, in words");
-    if (auto* e = std::get_if<Error>(&command)) return SendError(res, *e);
+    auto command = OptString(body, "command", "\"command\" must be a string: what happened, in words");
+    if (auto* e = std::get_if<Error>(&command)) return *e;
     call.command = std::get<std::optional<std::string>>(command);
-    auto session = OptString(*body, "session", "\"session\" must be a string");
-    if (auto* e = std::get_if<Error>(&session)) return SendError(res, *e);
+    auto session = OptString(body, "session", "\"session\" must be a string");
+    if (auto* e = std::get_if<Error>(&session)) return *e;
     call.session = std::get<std::optional<std::string>>(session);
     if (!call.session) {
-      auto dom = DomainOf(*body);
-      if (auto* e = std::get_if<Error>(&dom)) return SendError(res, *e);
+      auto dom = DomainOf(body);
+      if (auto* e = std::get_if<Error>(&dom)) return *e;
       call.domain = std::get<app::DomainRef>(dom);
-    } else if (body->contains("domain") || body->contains("action_model")) {
-      return SendError(res, Bad("a session replans its own domain", "/domain"));
+    } else if (body.contains("domain") || body.contains("action_model")) {
+      return Bad("a session replans its own domain", "/domain");
     }
-    if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
+    if (body.contains("state_plan")) call.state_plan = body["state_plan"];
     call.request = Json::object();
     for (const char* k : {"now", "executed", "observed", "blocked", "trajectory"})
-      if (body->contains(k)) call.request[k] = (*body)[k];
-    Json options = body->value("options", Json::object());
+      if (body.contains(k)) call.request[k] = body[k];
+    Json options = body.value("options", Json::object());
     if (options.is_object() && options.contains("keep")) {
       if (!options["keep"].is_string())
-        return SendError(res, Bad("keep must be none, started or min_change", "/options/keep"));
+        return Bad("keep must be none, started or min_change", "/options/keep");
       call.keep = options["keep"];
       options.erase("keep");
     }
     auto opts = app::ParseRequestOptions(options);
-    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    if (auto* e = std::get_if<Error>(&opts)) return *e;
     call.options = std::get<app::RequestOptions>(opts);
     auto r = core_.Replan(call, Context(req, obs));
-    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
-    SendJson(res, 200, std::get<app::Answer>(r).document);
+    if (auto* e = std::get_if<Error>(&r)) return *e;
+    return JsonReply{200, std::get<app::Answer>(r).document};
   }
 
   void HandleValidate(const httplib::Request& req, httplib::Response& res) {
@@ -292,53 +261,49 @@ class HttpFrontEnd::Impl {
 
   // POST /eval (contract section 15): {"suite", "prompting"?, "time_limit_ms"?} ->
   // {"items": [...], "totals": {...}}; streamed, each item as an `item` event.
-  void HandleEval(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
-    auto body = Body(req, res);
-    if (!body) return;
-    if (auto e = CheckKeys(*body, {"suite", "prompting", "time_limit_ms"})) return SendError(res, *e);
+  RouteAnswer HandleEval(const httplib::Request& req, const Json& body, app::Observer* obs) {
+    if (auto e = CheckKeys(body, {"suite", "prompting", "time_limit_ms"})) return *e;
     app::EvalCall call;
-    if (!body->contains("suite")) return SendError(res, Bad("missing required field \"suite\"", "/suite"));
-    call.suite = (*body)["suite"];
+    if (!body.contains("suite")) return Bad("missing required field \"suite\"", "/suite");
+    call.suite = body["suite"];
     call.pointer = "/suite";
-    auto p = OptString(*body, "prompting", "\"prompting\" must be cot or direct");
-    if (auto* e = std::get_if<Error>(&p)) return SendError(res, *e);
+    auto p = OptString(body, "prompting", "\"prompting\" must be cot or direct");
+    if (auto* e = std::get_if<Error>(&p)) return *e;
     call.prompting = std::get<std::optional<std::string>>(p);
-    if (body->contains("time_limit_ms")) {
-      const Json& t = (*body)["time_limit_ms"];
-      if (!t.is_number_integer()) return SendError(res, Bad("\"time_limit_ms\" must be an integer", "/time_limit_ms"));
+    if (body.contains("time_limit_ms")) {
+      const Json& t = body["time_limit_ms"];
+      if (!t.is_number_integer()) return Bad("\"time_limit_ms\" must be an integer", "/time_limit_ms");
       call.time_limit_ms = t.get<long>();
     }
     Json items = Json::array();
     auto r = core_.Eval(call, Context(req, obs), [&items](const Json& line) { items.push_back(line); });
-    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
-    SendJson(res, 200, {{"items", items}, {"totals", std::get<Json>(r)}});
+    if (auto* e = std::get_if<Error>(&r)) return *e;
+    return JsonReply{200, {{"items", items}, {"totals", std::get<Json>(r)}}};
   }
 
-  void HandlePlan(const httplib::Request& req, httplib::Response& res, app::Observer* obs) {
-    auto body = Body(req, res);
-    if (!body) return;
-    if (auto e = CheckKeys(*body, {"domain", "command", "prompting", "session", "options"}))
-      return SendError(res, *e);
+  RouteAnswer HandlePlan(const httplib::Request& req, const Json& body, app::Observer* obs) {
+    if (auto e = CheckKeys(body, {"domain", "command", "prompting", "session", "options"}))
+      return *e;
     app::PlanCall call;
     for (auto [key, out, msg] :
          {std::tuple{"domain", &call.domain, "\"domain\" must be a string"},
           std::tuple{"prompting", &call.prompting, "\"prompting\" must be cot or direct"},
           std::tuple{"session", &call.session, "\"session\" must be a string"}}) {
-      auto v = OptString(*body, key, msg);
-      if (auto* e = std::get_if<Error>(&v)) return SendError(res, *e);
+      auto v = OptString(body, key, msg);
+      if (auto* e = std::get_if<Error>(&v)) return *e;
       *out = std::get<std::optional<std::string>>(v);
     }
-    call.command = body->value("command", Json());
-    auto opts = OptionsOf(*body);
-    if (auto* e = std::get_if<Error>(&opts)) return SendError(res, *e);
+    call.command = body.value("command", Json());
+    auto opts = OptionsOf(body);
+    if (auto* e = std::get_if<Error>(&opts)) return *e;
     call.options = std::get<app::RequestOptions>(opts);
     auto r = core_.Plan(call, Context(req, obs));
-    if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
+    if (auto* e = std::get_if<Error>(&r)) return *e;
     const auto& p = std::get<app::PlanAnswer>(r);
     Json out = {{"state_plan", p.translation.state_plan}, {"reasoning", p.translation.reasoning},
                 {"trajectory", p.answer.document}, {"session", p.session}};
     if (!p.translation.warnings.empty()) out["warnings"] = p.translation.warnings;
-    SendJson(res, 200, out);
+    return JsonReply{200, out};
   }
 
   // The body limit of a route: /networks/check takes networks of 10,000 points (4 MiB).
@@ -607,14 +572,25 @@ class HttpFrontEnd::Impl {
     return [this] { return core_.ReserveJob(); };
   }
 
+  // A route that can stream: its body parsed once, here, then WithStreaming() (server/stream.h)
+  // takes "stream" out and runs `handle` with or without an event stream.
+  using StreamableRoute =
+      RouteAnswer (Impl::*)(const httplib::Request&, const Json&, app::Observer*);
+  httplib::Server::Handler Streamable(const std::string& route, StreamableRoute handle) {
+    return Wrap(route, [this, handle](const httplib::Request& q, httplib::Response& s) {
+      auto body = Body(q, s);
+      if (!body) return;
+      WithStreaming(q, std::move(*body), s, in_flight_, Reserver(),
+                    [this, handle](const httplib::Request& q2, const Json& b, app::Observer* o) {
+                      return (this->*handle)(q2, b, o);
+                    });
+    });
+  }
+
   void Routes() {
     SetUpServer();
-    svr_.Post("/solve", Wrap("/solve", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleSolve(q2, s2, o); });
-    }));
-    svr_.Post("/replan", Wrap("/replan", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleReplan(q2, s2, o); });
-    }));
+    svr_.Post("/solve", Streamable("/solve", &Impl::HandleSolve));
+    svr_.Post("/replan", Streamable("/replan", &Impl::HandleReplan));
     svr_.Post("/networks/check", Wrap("/networks/check", [this](auto& q, auto& s) {
       auto body = Body(q, s);
       if (!body) return;
@@ -624,17 +600,13 @@ class HttpFrontEnd::Impl {
     }));
     svr_.Post("/validate", Wrap("/validate", [this](auto& q, auto& s) { HandleValidate(q, s); }));
     svr_.Post("/translate", Wrap("/translate", [this](auto& q, auto& s) { HandleTranslate(q, s); }));
-    svr_.Post("/plan", Wrap("/plan", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandlePlan(q2, s2, o); });
-    }));
+    svr_.Post("/plan", Streamable("/plan", &Impl::HandlePlan));
     svr_.Get("/eval/suite", Wrap("/eval/suite", [this](auto&, auto& s) {
       auto r = core_.ShippedEvalSuite();
       if (auto* e = std::get_if<Error>(&r)) return SendError(s, *e);
       SendJson(s, 200, std::get<Json>(r));
     }));
-    svr_.Post("/eval", Wrap("/eval", [this](auto& q, auto& s) {
-      WithStreaming(q, s, in_flight_, Reserver(), [this](auto& q2, auto& s2, auto* o) { HandleEval(q2, s2, o); });
-    }));
+    svr_.Post("/eval", Streamable("/eval", &Impl::HandleEval));
     DomainRoutes();
     ExecutionRoutes();
     svr_.Get(R"(/sessions/([^/]{1,256}))", Wrap("/sessions/{id}", [this](auto& q, auto& s) {

@@ -83,59 +83,69 @@ void SendBusy(httplib::Response& res) {
   res.set_content(Json({{"error", err}}).dump(), "application/json");
 }
 
+// The route's answer; an exception is logged and answered as an internal error.
+RouteAnswer RunGuarded(const RouteHandler& run, const httplib::Request& req, const Json& body,
+                       app::Observer* observer) {
+  try {
+    return run(req, body, observer);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", Json("unhandled exception in a stream: " + std::string(e.what()))
+                            .dump(-1, ' ', false, Json::error_handler_t::replace));
+    return Error{ErrorCode::kInternal, "internal error", {}};
+  }
+}
+
+// The answer as the stream's last event: "done" with a 200 document, else "error" with the
+// status the route would answer. Returns that status.
+int SendLast(EventStream& stream, const RouteAnswer& answer) {
+  if (const auto* e = std::get_if<Error>(&answer)) {
+    const int status = HttpStatus(e->code);
+    stream.Send("error", {{"error", ErrorObject(*e, "")}, {"status", status}});
+    return status;
+  }
+  const auto& reply = std::get<JsonReply>(answer);
+  if (reply.status == 200) {
+    stream.Send("done", reply.body);
+  } else {
+    Json data = reply.body;
+    data["status"] = reply.status;
+    stream.Send("error", data);
+  }
+  return reply.status;
+}
+
 }  // namespace
 
-void WithStreaming(const httplib::Request& req, httplib::Response& res, std::atomic<int>& in_flight,
-                   const std::function<std::shared_ptr<app::JobTicket>()>& reserve, const RouteHandler& handler) {
-  Diagnostics d;
-  auto body = ParseJsonStrict(req.body, d);
-  if (!body || !body->is_object() || !body->contains("stream")) return handler(req, res, nullptr);
-  const Json stream = (*body)["stream"];
-  if (!stream.is_boolean()) return SendBadStream(res);
-  body->erase("stream");
-  auto inner = std::make_shared<httplib::Request>(req);
-  inner->body = body->dump();
-  if (!stream.get<bool>()) return handler(*inner, res, nullptr);
+void WithStreaming(const httplib::Request& req, Json body, httplib::Response& res,
+                   std::atomic<int>& in_flight,
+                   const std::function<std::shared_ptr<app::JobTicket>()>& reserve,
+                   const RouteHandler& handler) {
+  const auto it = body.find("stream");
+  if (it == body.end()) return Send(res, handler(req, body, nullptr));
+  if (!it->is_boolean()) return SendBadStream(res);
+  const bool streaming = it->get<bool>();
+  body.erase(it);
+  if (!streaming) return Send(res, handler(req, body, nullptr));
   std::shared_ptr<app::JobTicket> ticket = reserve();
   if (!ticket) return SendBusy(res);
   const std::string request_id = ThreadRequestId();
   const auto t0 = Clock::now();
   res.set_header("Cache-Control", "no-cache");
   res.set_header("X-Accel-Buffering", "no");  // proxies such as nginx: do not buffer
+  auto inner = std::make_shared<const httplib::Request>(req);
+  auto parsed = std::make_shared<const Json>(std::move(body));
   RouteHandler run = handler;
   std::atomic<int>* counter = &in_flight;
   ++in_flight;  // counted from now: the provider runs after this handler returns
   res.set_chunked_content_provider(
       "text/event-stream",
-      [inner, run, counter, request_id, t0, ticket](std::size_t, httplib::DataSink& sink) mutable {
+      [inner, parsed, run, counter, request_id, t0,
+       ticket](std::size_t, httplib::DataSink& sink) mutable {
         SetThreadRequestId(request_id);
         EventStream stream(sink, t0);
         SseObserver observer(stream);
         observer.ticket = std::move(ticket);
-        httplib::Response answer;
-        {
-          try {
-            run(*inner, answer, &observer);
-          } catch (const std::exception& e) {
-            spdlog::error("{}", Json("unhandled exception in a stream: " + std::string(e.what()))
-                                    .dump(-1, ' ', false, Json::error_handler_t::replace));
-            answer.status = 500;
-            answer.body =
-                Json({{"error",
-                       {{"code", CodeName(ErrorCode::kInternal)}, {"message", "internal error"}}}})
-                    .dump();
-          }
-        }
-        int status = answer.status == -1 ? 200 : answer.status;
-        Diagnostics ad;
-        auto data = ParseJsonStrict(answer.body, ad);
-        if (!data) data = Json{{"error", {{"code", "internal"}, {"message", "no answer"}}}};
-        if (status == 200) {
-          stream.Send("done", *data);
-        } else {
-          (*data)["status"] = status;
-          stream.Send("error", *data);
-        }
+        const int status = SendLast(stream, RunGuarded(run, *inner, *parsed, &observer));
         spdlog::info("{}", Json({{"event", "stream_end"},
                                  {"path", inner->path},
                                  {"status", status},

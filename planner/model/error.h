@@ -60,12 +60,20 @@ class Diagnostics {
   std::vector<Diagnostic> warnings_;
 };
 
+// A bound an input went beyond: its name (e.g. "max_locations_per_automaton"), its value, and
+// the figure the input asked for.
+struct Limit {
+  std::string name;
+  long value = 0;
+  long actual = 0;
+};
+
 struct Error {
   ErrorCode code = ErrorCode::kInternal;
   std::string message;
   std::vector<Diagnostic> details;  // every problem found, in input order
-  // For kTooLarge from a budget: the limit as a JSON text {"name", "value", "actual"}; else "".
-  std::string limit = {};
+  // For kTooLarge from a budget or a size bound: the limit exceeded; else none.
+  std::optional<Limit> limit = {};
 
   static Error FromDiagnostics(ErrorCode code, std::string message, const Diagnostics& d);
   // The message followed by one line per detail.
