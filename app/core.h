@@ -226,6 +226,8 @@ struct TranslateAnswer {
   Json state_plan;
   std::string reasoning;
   Json warnings;  // [] or [{"path"?, "message"}]
+  int llm_calls = 0;  // requests sent to the LLM, repairs included
+  int repairs = 0;    // of which repair requests
 };
 
 struct PlanAnswer {
@@ -235,7 +237,8 @@ struct PlanAnswer {
 };
 
 struct ValidateAnswer {
-  Json warnings;  // [{"path", "message"}]
+  std::vector<Diagnostic> warnings;  // pointers relative to the request ("/state_plan/...")
+  Json WarningsJson() const;         // [{"path", "message"}], as HTTP and gRPC give them
 };
 
 struct DomainInfo {

@@ -115,7 +115,8 @@ std::variant<Translated, Error> RunTranslation(Core::Impl& core, const Translate
 }
 
 TranslateAnswer ToAnswer(const TranslateResult& r) {
-  return {r.state_plan, r.reasoning, r.warnings.empty() ? Json::array() : WarningsJson(r.warnings)};
+  return {r.state_plan, r.reasoning, r.warnings.empty() ? Json::array() : WarningsJson(r.warnings),
+          r.llm_calls, r.repairs};
 }
 
 }  // namespace

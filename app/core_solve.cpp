@@ -289,10 +289,14 @@ std::variant<ValidateAnswer, Error> Core::Validate(const SolveCall& call) {
   for (const auto& e : diags.errors()) prefixed.Error("/state_plan" + e.pointer, e.message, e.offset);
   if (!sp) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan", prefixed);
   ValidateAnswer v;
-  v.warnings = Json::array();
-  for (const auto& w : diags.warnings())
-    v.warnings.push_back({{"path", "/state_plan" + w.pointer}, {"message", w.message}});
+  for (const auto& w : diags.warnings()) v.warnings.push_back({"/state_plan" + w.pointer, w.offset, w.message});
   return v;
+}
+
+Json ValidateAnswer::WarningsJson() const {
+  Json out = Json::array();
+  for (const auto& w : warnings) out.push_back({{"path", w.pointer}, {"message", w.message}});
+  return out;
 }
 
 }  // namespace ctb::app

@@ -12,7 +12,6 @@
 #include "planner/diagram/diagram.h"
 #include "planner/model/catalog.h"
 #include "planner/model/templates.h"
-#include "translator/draft.h"
 #include "translator/text.h"
 
 namespace ctb::cli {
@@ -102,7 +101,7 @@ int RunExpand(const DomainOptions& o) {
   Expansion x;
   std::optional<Domain> d;
   if (int rc = Load(o, x, d)) return rc;
-  return Write(o, x.document.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+  return Write(o, PrettyText(x.document) + "\n");
 }
 
 int RunDraw(const DomainOptions& o) {
@@ -112,34 +111,23 @@ int RunDraw(const DomainOptions& o) {
   return Write(o, DomainSvg(*d));
 }
 
+// `domain draft "words"`: the application core's draft (as POST /domains/draft), with the LLM from
+// the environment; the action model also to --out.
 int RunDraft(const DomainOptions& o) {
-  auto cfg = LlmConfig::FromEnv();
-  if (auto* e = std::get_if<Error>(&cfg)) {
-    PrintError(*e);
-    return ExitCodeFor(e->code);
-  }
-  auto client = MakeClient(std::get<LlmConfig>(cfg));
-  if (auto* e = std::get_if<Error>(&client)) {
-    PrintError(*e);
-    return ExitCodeFor(e->code);
-  }
-  DraftOptions dopt;
-  dopt.max_repairs = o.max_repairs >= 0 ? o.max_repairs : std::get<LlmConfig>(cfg).max_repairs;
-  auto r = Draft(o.description, *std::get<std::unique_ptr<LlmClient>>(client), dopt);
-  if (auto* e = std::get_if<Error>(&r)) {
-    PrintError(*e);
-    return ExitCodeFor(e->code);
-  }
-  const DraftResult& dr = std::get<DraftResult>(r);
+  auto opened = OpenLocalCore(o.config_dir, /*with_llm=*/true, o.max_repairs);
+  if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);
+  auto r = std::get<std::unique_ptr<app::Core>>(opened)->DraftDomain(o.description, {});
+  if (auto* e = std::get_if<Error>(&r)) return Fail(RelativeTo(*e, "/action_model"));
+  const Json& draft = std::get<app::DraftAnswer>(r).document;
   if (!o.out.empty() && o.out != "-") {
     std::ofstream f(o.out, std::ios::binary);
-    f << dr.action_model.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+    f << PrettyText(draft.value("action_model", Json())) << "\n";
     if (!f) {
       std::cerr << "error: cannot write '" << o.out << "'\n";
       return 3;
     }
   }
-  std::cout << DraftJson(dr).dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  std::cout << PrettyText(draft) << "\n";
   return 0;
 }
 
@@ -203,7 +191,7 @@ int RunImportPddl(const DomainOptions& o) {
   const app::PddlImportAnswer& im = std::get<app::PddlImportAnswer>(r);
   for (const auto& w : im.warnings)
     std::cerr << "warning: " << ValidUtf8(Renamed(WarningText(w), o)) << "\n";
-  auto dump = [](const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n"; };
+  auto dump = [](const Json& j) { return PrettyText(j) + "\n"; };
   if (int rc = Write(o, dump(im.action_model))) return rc;
   if (!o.state_plan_out.empty()) {
     DomainOptions sp = o;

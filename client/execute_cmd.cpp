@@ -1,6 +1,7 @@
 // `ctburton execute`: dispatches a plan on a clock (real time, or --speed N times faster; 0: no
 // waiting), prints each transition when it is due, takes injected faults from --fault flags or
-// stdin, replans from what happened (planner/replan) and goes on until the goal is reached.
+// stdin, replans from what happened (the application core's Replan, as POST /replan) and goes on
+// until the goal is reached.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -19,8 +20,7 @@
 #include "client/commands.h"
 #include "client/execute_sample.h"
 #include "client/execute_server.h"
-#include "client/replan_common.h"
-#include "planner/replan/replan.h"
+#include "client/local_core.h"
 
 namespace ctb::cli {
 
@@ -96,7 +96,7 @@ std::optional<Fault> ParseFault(const std::string& spec, double default_time, st
 
 class Executor {
  public:
-  Executor(const LoadedProblem& p, const ExecuteCliOptions& o) : p_(p), o_(o) {}
+  Executor(LocalProblem& p, const ExecuteCliOptions& o) : p_(p), o_(o) {}
 
   int Run() {
     for (const auto& spec : o_.faults) {
@@ -199,24 +199,21 @@ class Executor {
   }
 
   bool Replan(double now, const Json& observed, const std::string& why) {
-    Json body = {{"now", now}, {"executed", executed_}, {"blocked", blocked_},
-                 {"options", {{"keep", o_.keep}}}};
-    if (!observed.is_null()) body["observed"] = observed;
-    if (!plan_.is_null()) body["trajectory"] = plan_;
-    ReplanRequest req;
-    ReplanOptions ro;
-    if (auto e = ReadReplanRequest(body, req, &ro.keep)) {
-      PrintError(*e);
-      return false;
-    }
-    ro.solve.objective = o_.objective.empty() ? std::nullopt : ParseObjective(o_.objective);
-    ro.solve.time_limit_ms = o_.time_limit_ms;
-    auto r = ctb::Replan(p_.domain, p_.sp, req, ro);
+    app::ReplanCall call;
+    call.domain = p_.domain;
+    call.state_plan = p_.state_plan;
+    call.request = {{"now", now}, {"executed", executed_}, {"blocked", blocked_}};
+    if (!observed.is_null()) call.request["observed"] = observed;
+    if (!plan_.is_null()) call.request["trajectory"] = plan_;
+    call.keep = o_.keep;
+    if (!o_.objective.empty()) call.options.objective = o_.objective;
+    call.options.time_limit_ms = o_.time_limit_ms;
+    auto r = p_.core->Replan(call, {});
     if (auto* e = std::get_if<Error>(&r)) {
-      PrintError(*e);
+      PrintError(RelativeTo(*e, "/state_plan"));
       return false;
     }
-    Json ans = std::get<Json>(r);
+    Json ans = std::move(std::get<app::Answer>(r).document);
     std::string text = Stamp(now) + (why == "start" ? "PLAN " : "REPLAN ") + ans["status"].get<std::string>();
     if (ans.contains("transitions"))
       text += ", " + ans["objective"]["kind"].get<std::string>() + " " + ans["objective"]["value"].dump();
@@ -296,7 +293,7 @@ class Executor {
     else std::cout << text << std::endl;
   }
 
-  const LoadedProblem& p_;
+  LocalProblem& p_;
   const ExecuteCliOptions& o_;
   Json plan_;
   Json executed_ = Json::array(), blocked_ = Json::array();
@@ -325,16 +322,16 @@ int RunExecute(const ExecuteCliOptions& o) {
                     o.dispatch, o.seed, o.runs, o.json, o.time_limit_ms};
     return RunSampledExecutions(s);
   }
-  auto loaded = LoadProblem(o.domain, o.config_dir, o.file);
-  if (auto* e = std::get_if<Error>(&loaded)) {
-    PrintError(*e);
-    return 1;
-  }
-  if (!ParseKeep(o.keep)) {
+  if (o.keep != "none" && o.keep != "started" && o.keep != "min_change") {
     std::cerr << "error: --keep must be none, started or min_change\n";
     return 2;
   }
-  return Executor(std::get<LoadedProblem>(loaded), o).Run();
+  auto opened = OpenLocalProblem(o.domain, o.config_dir, o.file);
+  if (auto* e = std::get_if<Error>(&opened)) {
+    PrintError(*e);
+    return 1;
+  }
+  return Executor(std::get<LocalProblem>(opened), o).Run();
 }
 
 }  // namespace

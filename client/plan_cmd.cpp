@@ -25,7 +25,7 @@ int RunPlan(const PlanCliOptions& o) {
     if (!o.session.empty()) body["session"] = o.session;
     auto r = PostJson(o.server, "/plan", body, o.time_limit_ms);
     if (auto* e = std::get_if<Error>(&r)) return Fail(*e);
-    std::cout << std::get<Json>(r).dump(2) << "\n";
+    std::cout << PrettyText(std::get<Json>(r)) << "\n";
     return 0;
   }
   if (!o.session.empty()) return Fail({ErrorCode::kInvalidInput, "--session needs --server (sessions live in the server)", {}});
@@ -44,7 +44,7 @@ int RunPlan(const PlanCliOptions& o) {
   Json out = {{"state_plan", p.translation.state_plan}, {"reasoning", p.translation.reasoning},
               {"trajectory", p.answer.document}};
   if (!p.translation.warnings.empty()) out["warnings"] = p.translation.warnings;
-  std::cout << out.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  std::cout << PrettyText(out) << "\n";
   return 0;
 }
 }  // namespace

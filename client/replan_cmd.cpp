@@ -4,9 +4,9 @@
 #include <string>
 
 #include "client/commands.h"
-#include "client/replan_common.h"
+#include "client/local_core.h"
 #include "planner/model/catalog.h"
-#include "planner/replan/replan.h"
+#include "planner/model/json_io.h"
 
 namespace ctb::cli {
 
@@ -18,6 +18,7 @@ struct ReplanCliOptions {
   std::optional<double> now;
   long time_limit_ms = 60000;
   int max_horizon = 32;
+  bool compact = false;  // the answer as HTTP sends it (one line)
 };
 
 // A flag that holds JSON text, or @FILE.
@@ -28,14 +29,8 @@ std::optional<Json> JsonArg(const std::string& arg, const std::string& flag, Dia
   return j;
 }
 
-int RunReplan(const ReplanCliOptions& o) {
-  auto loaded = LoadProblem(o.domain, o.config_dir, o.file);
-  if (auto* e = std::get_if<Error>(&loaded)) {
-    PrintError(*e);
-    return 1;
-  }
-  auto& [domain, sp] = std::get<LoadedProblem>(loaded);
-  Diagnostics d;
+// The request body the flags describe (--request, then each flag over it).
+std::optional<Json> RequestBody(const ReplanCliOptions& o, Diagnostics& d) {
   Json body = Json::object();
   if (!o.request.empty()) {
     auto r = ReadJsonFile(o.request, d);
@@ -50,32 +45,51 @@ int RunReplan(const ReplanCliOptions& o) {
                           std::pair{&o.blocked, "blocked"}})
     if (!arg->empty())
       if (auto j = JsonArg(*arg, std::string("--") + key, d)) body[key] = *j;
-  if (!d.ok()) {
-    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read the request", d));
-    return 1;
+  if (!d.ok()) return std::nullopt;
+  if (!body.is_object()) {
+    d.Error("/", "the request must be a JSON object");
+    return std::nullopt;
   }
-  if (!o.keep.empty()) body["options"]["keep"] = o.keep;
-  ReplanRequest req;
-  ReplanOptions ro;
-  if (auto e = ReadReplanRequest(body, req, &ro.keep)) {
-    PrintError(*e);
-    return 1;
+  return body;
+}
+
+// The replan call of the body: its "options" (keep among them) taken out, the flags over them.
+std::variant<app::ReplanCall, Error> CallOf(const ReplanCliOptions& o, Json body) {
+  app::ReplanCall call;
+  Json options = body.contains("options") ? body["options"] : Json::object();
+  body.erase("options");
+  if (options.is_object() && options.contains("keep")) {
+    if (!options["keep"].is_string()) return Error{ErrorCode::kInvalidInput, "keep must be none, started or min_change", {{"/options/keep", std::nullopt, "must be a string"}}};
+    call.keep = options["keep"];
+    options.erase("keep");
   }
-  if (!o.objective.empty()) {
-    ro.solve.objective = ParseObjective(o.objective);
-    if (!ro.solve.objective) {
-      std::cerr << "error: unknown objective '" << o.objective << "'\n";
-      return 1;
-    }
-  }
-  ro.solve.time_limit_ms = o.time_limit_ms;
-  ro.solve.max_horizon = o.max_horizon;
-  auto r = Replan(domain, sp, req, ro);
-  if (auto* e = std::get_if<Error>(&r)) {
-    PrintError(*e);
-    return ExitCodeFor(e->code);
-  }
-  std::cout << std::get<Json>(r).dump(2) << "\n";
+  if (!o.keep.empty()) call.keep = o.keep;
+  auto parsed = app::ParseRequestOptions(options);
+  if (auto* e = std::get_if<Error>(&parsed)) return *e;
+  call.options = std::get<app::RequestOptions>(parsed);
+  if (!o.objective.empty()) call.options.objective = o.objective;
+  call.options.time_limit_ms = o.time_limit_ms;
+  call.options.max_horizon = o.max_horizon;
+  call.request = std::move(body);
+  return call;
+}
+
+int RunReplan(const ReplanCliOptions& o) {
+  auto opened = OpenLocalProblem(o.domain, o.config_dir, o.file);
+  if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);
+  LocalProblem& p = std::get<LocalProblem>(opened);
+  Diagnostics d;
+  auto body = RequestBody(o, d);
+  if (!body) return Fail(Error::FromDiagnostics(ErrorCode::kInvalidInput, "cannot read the request", d));
+  auto made = CallOf(o, *body);
+  if (auto* e = std::get_if<Error>(&made)) return Fail(*e);
+  app::ReplanCall& call = std::get<app::ReplanCall>(made);
+  call.domain = p.domain;
+  call.state_plan = p.state_plan;
+  auto r = p.core->Replan(call, {});
+  if (auto* e = std::get_if<Error>(&r)) return Fail(RelativeTo(*e, "/state_plan"));
+  const Json& answer = std::get<app::Answer>(r).document;
+  std::cout << (o.compact ? WireText(answer) : PrettyText(answer)) << "\n";
   return 0;
 }
 
@@ -100,6 +114,7 @@ Runner AddReplan(CLI::App& app) {
   sub->add_option("--max-horizon", o->max_horizon, "Most events of the future (default 32)")
       ->check(CLI::Range(0, kMaxHorizonLimit));
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
+  sub->add_flag("--compact", o->compact, "Print the answer on one line, the bytes HTTP answers");
   return [o, sub]() { return sub->parsed() ? RunReplan(*o) : -1; };
 }
 

@@ -23,7 +23,7 @@ int RunSchema(const SchemaOptions& o) {
     PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
     return 2;
   }
-  std::cout << StatePlanSchema(*domain).dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  std::cout << PrettyText(StatePlanSchema(*domain)) << "\n";
   return 0;
 }
 }  // namespace

@@ -30,6 +30,7 @@ struct SolveCliOptions {
   std::string model_out;
   std::string server;
   std::string pddl_plan;                 // write the plan here as PDDL 2.1
+  bool compact = false;                  // the answer as HTTP sends it (one line)
   std::vector<std::string> pddl_files;  // the PDDL domain (and problem) the model came from
 };
 
@@ -85,7 +86,7 @@ int RunRemoteSolve(const SolveCliOptions& o) {
     PrintError(*e);
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
-  std::cout << std::get<Json>(r).dump(2) << "\n";
+  std::cout << (o.compact ? WireText(std::get<Json>(r)) : PrettyText(std::get<Json>(r))) << "\n";
   return 0;
 }
 
@@ -133,17 +134,14 @@ int RunSolve(const SolveCliOptions& o) {
     so.first_plan_ms = o.first_plan_ms;
     so.model_out = o.model_out;
   };
-  if (auto v = core.Validate(call); auto* ok = std::get_if<app::ValidateAnswer>(&v))
-    for (const auto& w : ok->warnings)
-      std::cerr << "warning: " << w.value("path", "").substr(std::string("/state_plan").size())
-                << ": " << w.value("message", "") << "\n";
+  PrintStatePlanWarnings(core, call.domain, call.state_plan);
   auto result = core.Solve(call, {});
   if (auto* e = std::get_if<Error>(&result)) {
     PrintError(RelativeTo(*e, "/state_plan"));
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
   const Json& answer = std::get<app::Answer>(result).document;
-  std::cout << answer.dump(2) << "\n";
+  std::cout << (o.compact ? WireText(answer) : PrettyText(answer)) << "\n";
   if (!o.pddl_plan.empty() && !WritePddlPlan(o, answer)) return 3;
   return 0;
 }
@@ -174,6 +172,7 @@ Runner AddSolve(CLI::App& app) {
                   "z3 (the z3 engine alone)");
   sub->add_option("--portfolio", o->portfolio, "Members run at once in portfolio mode: 1 g_first, 2 + tc_first, "
                   "3 + z3");
+  sub->add_flag("--compact", o->compact, "Print the answer on one line, the bytes HTTP answers");
   sub->add_flag("--no-decompose", o->no_decompose, "Solve as one model even when it splits");
   sub->add_flag("--no-reuse", o->no_reuse, "Solve identical parts again (benchmarks)");
   sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");

@@ -1,10 +1,12 @@
+// `ctburton translate`: a command in words to a state plan, through the application core (the
+// same translation as POST /translate), with the LLM from the environment (CTB_LLM_*).
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "client/commands.h"
+#include "client/local_core.h"
 #include "planner/model/catalog.h"
-#include "translator/pipeline.h"
 
 namespace ctb::cli {
 
@@ -13,34 +15,26 @@ struct TranslateCliOptions {
   std::string domain, command, prompting = "cot", config_dir;
 };
 
-int ExitCode(ErrorCode c) { return ExitCodeFor(c); }
-
 int RunTranslate(const TranslateCliOptions& o) {
-  auto fail = [](const Error& e) {
-    PrintError(e);
-    return ExitCode(e.code);
-  };
+  const std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
   Diagnostics dd;
-  auto domain = LoadDomainByNameOrPath(o.domain, o.config_dir.empty() ? DefaultConfigDir() : o.config_dir, dd);
-  if (!domain) return fail(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
-  auto prompting = ParsePrompting(o.prompting);
-  if (!prompting) return fail({ErrorCode::kInvalidInput, "--prompting must be cot or direct", {}});
-  auto cfg = LlmConfig::FromEnv();
-  if (auto* e = std::get_if<Error>(&cfg)) return fail(*e);
-  auto client = MakeClient(std::get<LlmConfig>(cfg));
-  if (auto* e = std::get_if<Error>(&client)) return fail(*e);
-  TranslateOptions to;
-  to.prompting = *prompting;
-  to.max_repairs = std::get<LlmConfig>(cfg).max_repairs;
-  to.response_format = std::get<LlmConfig>(cfg).response_format;
-  auto r = Translate(*domain, o.command, *std::get<std::unique_ptr<LlmClient>>(client), to);
-  if (auto* e = std::get_if<Error>(&r)) return fail(*e);
-  const auto& t = std::get<TranslateResult>(r);
-  for (const auto& w : t.warnings) std::cerr << "warning: " << w.ToString() << "\n";
+  auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
+  if (!domain) return Fail(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
+  auto opened = OpenLocalCore(config, /*with_llm=*/true);
+  if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);
+  app::TranslateCall call;
+  call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
+  call.command = o.command;
+  call.prompting = o.prompting;
+  auto r = std::get<std::unique_ptr<app::Core>>(opened)->Translate(call, {});
+  if (auto* e = std::get_if<Error>(&r)) return Fail(*e);
+  const auto& t = std::get<app::TranslateAnswer>(r);
+  for (const auto& w : t.warnings)
+    std::cerr << "warning: " << w.value("path", "/") << ": " << w.value("message", "") << "\n";
   Json out = {{"state_plan", t.state_plan}, {"reasoning", t.reasoning},
               {"llm_calls", t.llm_calls}, {"repairs", t.repairs}};
-  if (!t.warnings.empty()) out["warnings"] = WarningsJson(t.warnings);
-  std::cout << out.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  if (!t.warnings.empty()) out["warnings"] = t.warnings;
+  std::cout << PrettyText(out) << "\n";
   return 0;
 }
 }  // namespace

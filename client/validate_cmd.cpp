@@ -1,10 +1,12 @@
+// `ctburton validate`: a state plan file checked against a domain by the application core (the
+// check POST /validate makes), one located error or warning a line.
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "client/commands.h"
+#include "client/local_core.h"
 #include "planner/model/catalog.h"
-#include "planner/model/state_plan.h"
 
 namespace ctb::cli {
 
@@ -15,8 +17,14 @@ struct ValidateOptions {
   std::string config_dir;
 };
 
+int Invalid(const std::string& file, const std::vector<Diagnostic>& errors) {
+  std::cout << "invalid: " << file << "\n";
+  for (const auto& e : errors) std::cout << e.ToString() << "\n";
+  return 1;
+}
+
 int RunValidate(const ValidateOptions& o) {
-  std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
+  const std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
   Diagnostics dd;
   auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
   if (!domain) {
@@ -26,14 +34,20 @@ int RunValidate(const ValidateOptions& o) {
   }
   Diagnostics diags;
   auto json = ReadJsonFile(o.file, diags);
-  if (json) LoadStatePlan(*json, *domain, diags);
-  if (!diags.ok()) {
-    std::cout << "invalid: " << o.file << "\n";
-    for (const auto& e : diags.errors()) std::cout << e.ToString() << "\n";
-    return 1;
+  if (!json) return Invalid(o.file, diags.errors());
+  auto opened = OpenLocalCore(config, /*with_llm=*/false);
+  if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);
+  app::SolveCall call;
+  call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
+  call.state_plan = std::move(*json);
+  auto r = std::get<std::unique_ptr<app::Core>>(opened)->Validate(call);
+  if (auto* e = std::get_if<Error>(&r)) {
+    if (e->code != ErrorCode::kInvalidInput) return Fail(*e);
+    return Invalid(o.file, RelativeTo(*e, "/state_plan").details);
   }
   std::cout << "valid\n";
-  for (const auto& w : diags.warnings()) std::cout << "warning: " << w.ToString() << "\n";
+  for (const auto& w : std::get<app::ValidateAnswer>(r).warnings)
+    std::cout << "warning: " << RelativeTo(w, "/state_plan").ToString() << "\n";
   return 0;
 }
 }  // namespace

@@ -87,7 +87,7 @@ class PlannerService final : public pb::Planner::Service {
       auto v = core_.Validate(call);
       if (auto* e = std::get_if<Error>(&v)) return StatusOf(*e);
       r->set_valid(true);
-      for (const auto& w : std::get<app::ValidateAnswer>(v).warnings) FromJson(w, r->add_warnings());
+      for (const auto& w : std::get<app::ValidateAnswer>(v).WarningsJson()) FromJson(w, r->add_warnings());
       return Status::OK;
     });
   }

@@ -1,5 +1,6 @@
 #include "server/answer.h"
 
+#include "planner/model/json_io.h"
 #include "app/budget.h"
 
 namespace ctb::server {
@@ -23,7 +24,7 @@ Json ErrorObject(const Error& e, const std::string& request_id) {
 
 void SendJson(httplib::Response& res, int status, const Json& j) {
   res.status = status;
-  res.set_content(j.dump(-1, ' ', false, Json::error_handler_t::replace), "application/json");
+  res.set_content(WireText(j), "application/json");
 }
 
 void SendError(httplib::Response& res, const Error& e) {

@@ -236,7 +236,7 @@ class HttpFrontEnd::Impl {
     if (body->contains("state_plan")) call.state_plan = (*body)["state_plan"];
     auto r = core_.Validate(call);
     if (auto* e = std::get_if<Error>(&r)) return SendError(res, *e);
-    SendJson(res, 200, {{"valid", true}, {"warnings", std::get<app::ValidateAnswer>(r).warnings}});
+    SendJson(res, 200, {{"valid", true}, {"warnings", std::get<app::ValidateAnswer>(r).WarningsJson()}});
   }
 
   void HandleTranslate(const httplib::Request& req, httplib::Response& res) {

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <utility>
 
+#include "planner/model/json_io.h"
 #include "server/log_context.h"
 
 namespace ctb::server {
@@ -28,7 +29,7 @@ class EventStream {
   // Writes one event; data goes on one line (JSON dumps without newlines).
   void Send(const std::string& event, const Json& data) {
     std::string text = "event: " + event +
-                       "\ndata: " + data.dump(-1, ' ', false, Json::error_handler_t::replace) +
+                       "\ndata: " + WireText(data) +
                        "\n\n";
     std::lock_guard<std::mutex> lock(mu_);
     if (open_ && !sink_.write(text.data(), text.size())) open_ = false;

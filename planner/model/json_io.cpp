@@ -109,6 +109,10 @@ std::optional<Json> ParseJsonStrict(std::string_view text, Diagnostics& diags,
   return std::nullopt;
 }
 
+std::string WireText(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+std::string PrettyText(const Json& j) { return j.dump(2, ' ', false, Json::error_handler_t::replace); }
+
 std::optional<Json> ReadJsonFile(const std::string& path, Diagnostics& diags,
                                  const ParseLimits& limits) {
   std::ifstream in(path, std::ios::binary);

@@ -32,6 +32,12 @@ std::optional<Json> ParseJsonStrict(std::string_view text, Diagnostics& diags,
 std::optional<Json> ReadJsonFile(const std::string& path, Diagnostics& diags,
                                  const ParseLimits& limits = {});
 
+// The text of every answer the service gives (HTTP bodies, SSE event data, the CLI's --compact):
+// one line, no spaces, invalid UTF-8 replaced (text from an LLM may hold some), never throws.
+std::string WireText(const Json& j);
+// The same document indented by two spaces, as the CLI prints it by default.
+std::string PrettyText(const Json& j);
+
 // A view of one JSON object that knows its pointer. Each getter records an error (wrong type,
 // missing required field, non-finite or negative number) and returns nullopt; CheckKeys reports
 // every field not in the allowed list.

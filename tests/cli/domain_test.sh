@@ -69,5 +69,51 @@ out=$("$BIN" domain check "$TEAM" --set M=3); rc=$?
 "$BIN" domain check "$TEAM" --set N=x >/dev/null 2>&1; rc=$?
 [ $rc = 2 ] && ok "bad --set is a usage error" || bad "bad --set (rc=$rc)"
 
+# domain draft through the application core, against a loopback mock of the chat-completions
+# endpoint that answers every request with one recorded draft (good, or broken for ever).
+mock() {  # mock ANSWER_FILE PORT_FILE: serves until killed
+  python3 - "$1" "$2" <<'PY' &
+import http.server, json, sys
+answer = open(sys.argv[1]).read()
+class H(http.server.BaseHTTPRequestHandler):
+    def do_POST(self):
+        self.rfile.read(int(self.headers.get("Content-Length", 0)))
+        body = json.dumps({"id": "x", "object": "chat.completion", "model": "m",
+                           "choices": [{"index": 0, "finish_reason": "stop",
+                                        "message": {"role": "assistant", "content": answer}}],
+                           "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2}}).encode()
+        self.send_response(200)
+        self.send_header("Content-Type", "application/json")
+        self.send_header("Content-Length", str(len(body)))
+        self.end_headers()
+        self.wfile.write(body)
+    def log_message(self, *a): pass
+s = http.server.HTTPServer(("127.0.0.1", 0), H)
+open(sys.argv[2] + ".tmp", "w").write(str(s.server_port))
+import os; os.rename(sys.argv[2] + ".tmp", sys.argv[2])
+s.serve_forever()
+PY
+  MOCK=$!
+  for _ in $(seq 100); do [ -s "$2" ] && break; sleep 0.05; done
+}
+WORDS="two drones that take off from a hangar and fly to A or B"
+mock tests/recordings/draft/good.txt "$T/port1"
+CTB_LLM_BASE_URL=http://127.0.0.1:$(cat "$T/port1")/v1 CTB_LLM_API_KEY=k CTB_LLM_MODEL=m \
+  "$BIN" domain draft "$WORDS" --out "$T/drafted.json" > "$T/draft.json" 2> "$T/draft.err"; rc=$?
+kill $MOCK
+if [ $rc = 0 ] && python3 -c "
+import json; d = json.load(open('$T/draft.json'))
+assert d['action_model']['name'] == 'hangar_drones', d
+assert 'restatement' in d and isinstance(d['questions'], list), d" \
+  && [[ "$("$BIN" domain check "$T/drafted.json")" == "valid: hangar_drones"* ]]; then
+  ok "draft through the core: printed, written, loads"
+else bad "draft (rc=$rc): $(cat "$T/draft.err")"; fi
+mock tests/recordings/draft/broken.txt "$T/port2"
+CTB_LLM_BASE_URL=http://127.0.0.1:$(cat "$T/port2")/v1 CTB_LLM_API_KEY=k CTB_LLM_MODEL=m \
+  "$BIN" domain draft "$WORDS" --max-repairs 1 > /dev/null 2> "$T/broken.err"; rc=$?
+kill $MOCK
+[ $rc = 4 ] && grep -q '^/automata/' "$T/broken.err" && ! grep -q '^/action_model' "$T/broken.err" \
+  && ok "broken draft: exit 4, errors located in the model" || bad "broken draft (rc=$rc): $(cat "$T/broken.err")"
+
 echo "$fail failure(s)"
 [ $fail = 0 ]
