@@ -1,12 +1,12 @@
 #include "grpc/convert.h"
 
 #include <google/protobuf/struct.pb.h>
-#include <google/protobuf/util/json_util.h>
 
 #include <memory>
 
 #include "google/rpc/error_details.pb.h"
 #include "google/rpc/status.pb.h"
+#include "grpc/proto_json.h"
 
 namespace ctb::grpcfront {
 
@@ -42,88 +42,17 @@ grpc::StatusCode CodeOf(ErrorCode c) {
   return grpc::StatusCode::INTERNAL;
 }
 
-// Found by fuzzing (docs/reliability.md): protobuf's JSON printer writes nothing for a
-// google.protobuf.Value without a kind, so a list lost the element (a duration [lo, <unset>]
-// became [lo], an event's endpoint disappeared) and the core never saw the malformed part. Such a
-// Value is printed as an empty object instead, which the loaders refuse at the element's own
-// pointer, as a mistyped value must be.
-bool IsUnsetValue(const google::protobuf::Message& m) {
-  return m.GetDescriptor() == google::protobuf::Value::descriptor() &&
-         static_cast<const google::protobuf::Value&>(m).kind_case() ==
-             google::protobuf::Value::KIND_NOT_SET;
-}
-
-// Whether m holds, at any depth, a Value without a kind or unknown fields. Also found by fuzzing:
-// protobuf's JSON printer (3.21) writes nothing at all for a google.protobuf.ListValue whose bytes
-// hold only unknown fields (e.g. a field 2), so a duration of the wrong shape vanished and the
-// transition loaded with no duration; with the unknown fields dropped first (proto3 ignores them)
-// it is printed as [], which the loader refuses at its pointer.
-bool NeedsMending(const google::protobuf::Message& m) {
-  using google::protobuf::FieldDescriptor;
-  if (IsUnsetValue(m)) return true;
-  const auto* desc = m.GetDescriptor();
-  const auto* refl = m.GetReflection();
-  if (!refl->GetUnknownFields(m).empty()) return true;
-  for (int i = 0; i < desc->field_count(); ++i) {
-    const FieldDescriptor* f = desc->field(i);
-    if (f->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) continue;
-    if (f->is_repeated()) {
-      for (int k = 0; k < refl->FieldSize(m, f); ++k)
-        if (NeedsMending(refl->GetRepeatedMessage(m, f, k))) return true;
-    } else if (refl->HasField(m, f) && NeedsMending(refl->GetMessage(m, f))) {
-      return true;
-    }
-  }
-  return false;
-}
-
-// Sets every Value without a kind inside m to an empty object.
-void MarkUnsetValues(google::protobuf::Message* m) {
-  using google::protobuf::FieldDescriptor;
-  if (IsUnsetValue(*m)) {
-    static_cast<google::protobuf::Value*>(m)->mutable_struct_value();
-    return;
-  }
-  const auto* desc = m->GetDescriptor();
-  const auto* refl = m->GetReflection();
-  for (int i = 0; i < desc->field_count(); ++i) {
-    const FieldDescriptor* f = desc->field(i);
-    if (f->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) continue;
-    if (f->is_repeated()) {
-      for (int k = 0; k < refl->FieldSize(*m, f); ++k)
-        MarkUnsetValues(refl->MutableRepeatedMessage(m, f, k));
-    } else if (refl->HasField(*m, f)) {
-      MarkUnsetValues(refl->MutableMessage(m, f));
-    }
-  }
-}
-
 }  // namespace
 
-Json ToJson(const google::protobuf::Message& m) {
-  google::protobuf::util::JsonPrintOptions o;
-  o.preserve_proto_field_names = true;
-  std::string text;
-  std::unique_ptr<google::protobuf::Message> marked;  // a copy, only when there is something to mend
-  const google::protobuf::Message* print = &m;
-  if (NeedsMending(m)) {
-    marked.reset(m.New());
-    marked->CopyFrom(m);
-    marked->DiscardUnknownFields();
-    MarkUnsetValues(marked.get());
-    print = marked.get();
-  }
-  if (!google::protobuf::util::MessageToJsonString(*print, &text, o).ok()) return Json::object();
-  return Json::parse(text, nullptr, false);
-}
+// Found by fuzzing (docs/reliability.md), when this went through protobuf's JSON printer and the
+// text was parsed back: the printer wrote nothing for a google.protobuf.Value without a kind (a
+// duration [lo, <unset>] became [lo]) nor for a ListValue holding only unknown fields, so a
+// malformed part vanished before the core could refuse it. The reflection walk (proto_json.h)
+// writes {} for the first and [] for the second, which the loaders refuse at their pointers.
+Json ToJson(const google::protobuf::Message& m) { return MessageToJsonValue(m); }
 
 std::optional<std::string> FromJson(const Json& j, google::protobuf::Message* m) {
-  google::protobuf::util::JsonParseOptions o;
-  o.ignore_unknown_fields = true;
-  auto st = google::protobuf::util::JsonStringToMessage(
-      j.dump(-1, ' ', false, Json::error_handler_t::replace), m, o);
-  if (st.ok()) return std::nullopt;
-  return std::string(st.message());
+  return JsonValueToMessage(j, m);
 }
 
 app::RequestOptions OptionsOf(const pb::Options& o) {

@@ -1,6 +1,7 @@
-// Conversions between the core's types and the gRPC messages (contract section 10). Documents go
-// through protobuf's JSON mapping with the JSON keys as field names; statuses and errors are
-// mapped by hand. Internal to grpc/.
+// Conversions between the core's types and the gRPC messages (contract section 10). Documents
+// follow protobuf's JSON mapping with the JSON keys as field names, converted in memory by
+// reflection (grpc/proto_json.h: no JSON text is written and parsed back); statuses and errors
+// are mapped by hand. Internal to grpc/.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
