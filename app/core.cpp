@@ -68,14 +68,15 @@ std::optional<Error> OpenStores(Core::Impl& impl) {
                                   : cfg.session_store;
   impl.storage = std::make_shared<StorageHealth>(backend);
   if (auto e = CheckDataFile(cfg, *impl.storage)) return e;
-  SessionStoreConfig sc{cfg.session_store, cfg.data_dir, cfg.max_sessions, cfg.session_idle_s};
+  const DocumentStoreConfig sc{cfg.session_store, cfg.data_dir, "session", cfg.max_sessions, cfg.session_idle_s};
+  const DocumentStoreConfig dc{cfg.session_store, cfg.data_dir, "domain", 1000, 0};  // 1000 at most, never expire
   std::string host;
   int port = 0, db = 0;
   const bool local = sc.url.empty() || sc.url == "sqlite" || sc.url == "memory";
   if (!local)  // a wrong URL stops the start; an unreachable server does not
     if (auto e = ParseRedisUrl(sc.url, host, port, db)) return Error{e->code, "session store: " + e->message, {}};
-  impl.sessions = GuardSessionStore([sc] { return OpenSessionStore(sc); }, "session", impl.storage);
-  impl.stored_domains = GuardDomainStore([sc] { return OpenDomainStore(sc); }, impl.storage);
+  impl.sessions = GuardDocumentStore([sc] { return OpenDocumentStore(sc); }, "session", impl.storage);
+  impl.stored_domains = GuardDocumentStore([dc] { return OpenDocumentStore(dc); }, "domain", impl.storage);
   return std::nullopt;
 }
 
@@ -109,7 +110,7 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
 std::variant<Json, Error> Core::GetSession(const std::string& id) {
   auto got = impl_->sessions->Get(id);
   if (auto* e = std::get_if<Error>(&got)) return *e;
-  const auto& stored = std::get<std::optional<StoredSession>>(got);
+  const auto& stored = std::get<std::optional<StoredDocument>>(got);
   if (!stored)
     return Error{ErrorCode::kNotFound, "unknown or expired session '" + Echo(id) + "'", {}};
   return SessionView(*stored);

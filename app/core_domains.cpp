@@ -66,7 +66,7 @@ std::variant<std::shared_ptr<const Domain>, Error> Core::Impl::NamedDomain(
   if (!stored_domains) return Unknown(name);
   auto got = stored_domains->Get(name);
   if (auto* e = std::get_if<Error>(&got)) return *e;
-  const auto& stored = std::get<std::optional<StoredDomain>>(got);
+  const auto& stored = std::get<std::optional<StoredDocument>>(got);
   if (!stored) return Unknown(name);
   Diagnostics d;
   auto dom = LoadDomain(stored->doc, d);
@@ -88,7 +88,7 @@ std::variant<std::vector<DomainInfo>, Error> Core::ListDomains() const {
   for (const auto& name : std::get<std::vector<std::string>>(names)) {
     auto got = impl_->stored_domains->Get(name);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    const auto& stored = std::get<std::optional<StoredDomain>>(got);
+    const auto& stored = std::get<std::optional<StoredDocument>>(got);
     if (!stored) continue;  // deleted meanwhile
     Diagnostics d;
     if (auto dom = LoadDomain(stored->doc, d)) out.push_back(InfoOf(*dom, "stored", stored->version));
@@ -106,7 +106,7 @@ std::variant<Json, Error> Core::GetDomain(const std::string& name, bool as_writt
   if (!impl_->stored_domains) return Unknown(name);
   auto got = impl_->stored_domains->Get(name);
   if (auto* e = std::get_if<Error>(&got)) return *e;
-  const auto& stored = std::get<std::optional<StoredDomain>>(got);
+  const auto& stored = std::get<std::optional<StoredDocument>>(got);
   if (!stored) return Unknown(name);
   return stored->doc;
 }
@@ -118,8 +118,8 @@ std::variant<std::string, Error> Core::CreateDomain(const Json& document) {
   if (impl_->domains.count(n)) return Shipped(n, "created again");
   if (auto e = CheckDocument(document, impl_->cfg.budget)) return *e;
   if (!impl_->stored_domains) return impl_->StoreFailed("domain");
-  StoredDomain d;
-  d.name = n;
+  StoredDocument d;
+  d.id = n;
   d.doc = document;
   switch (impl_->stored_domains->Create(d)) {
     case StoreResult::kOk: return n;
@@ -141,8 +141,8 @@ std::optional<Error> Core::ReplaceDomain(const std::string& name, const Json& do
                    "' but the path names '" + Echo(name) + "'", "/name");
   if (auto e = CheckDocument(document, impl_->cfg.budget)) return *e;
   if (!impl_->stored_domains) return impl_->StoreFailed("domain");
-  StoredDomain d;
-  d.name = name;
+  StoredDocument d;
+  d.id = name;
   d.doc = document;
   switch (impl_->stored_domains->Replace(d)) {
     case StoreResult::kOk: return std::nullopt;
@@ -156,9 +156,9 @@ std::optional<Error> Core::DeleteDomain(const std::string& name, bool force) {
   if (!impl_->stored_domains) return Unknown(name);
   auto got = impl_->stored_domains->Get(name);
   if (auto* e = std::get_if<Error>(&got)) return *e;
-  if (!std::get<std::optional<StoredDomain>>(got)) return Unknown(name);
+  if (!std::get<std::optional<StoredDocument>>(got)) return Unknown(name);
   if (!force) {
-    const long users = impl_->sessions->CountUsing(name);
+    const long users = impl_->sessions->CountWhere("domain", name);
     if (users < 0) return impl_->StoreFailed("session");
     if (users > 0)
       return Error{ErrorCode::kConflict,

@@ -52,7 +52,7 @@ std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& reque
   if (call.session) {
     auto got = impl_->sessions->Get(*call.session);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    const auto& s = std::get<std::optional<StoredSession>>(got);
+    const auto& s = std::get<std::optional<StoredDocument>>(got);
     if (!s) return Error{ErrorCode::kNotFound, "unknown or expired session '" + Echo(*call.session) + "'", {}};
     Session sess = SessionFromDoc(s->doc);
     if (sess.state_plan.is_null() || !s->doc.contains("trajectory"))
@@ -127,9 +127,9 @@ void Core::SetCommandSink(const std::string& adapter, std::shared_ptr<CommandSin
 
 // Opens the execution store beside the sessions' and resumes what was running.
 std::optional<Error> OpenExecutions(Core& core, Core::Impl& impl) {
-  SessionStoreConfig sc{impl.cfg.session_store, impl.cfg.data_dir, impl.cfg.max_executions,
-                        impl.cfg.execution_idle_s, "execution"};
-  auto store = GuardSessionStore([sc] { return OpenSessionStore(sc); }, "execution", impl.storage);
+  const DocumentStoreConfig sc{impl.cfg.session_store, impl.cfg.data_dir, "execution", impl.cfg.max_executions,
+                               impl.cfg.execution_idle_s};
+  auto store = GuardDocumentStore([sc] { return OpenDocumentStore(sc); }, "execution", impl.storage);
   const bool shared = impl.cfg.session_store.rfind("redis://", 0) == 0;
   impl.executions = std::make_shared<Executions>(core, std::move(store), impl.cfg.execution_lease_ms, shared);
   for (const auto& [adapter, sink] : impl.cfg.command_sinks) core.SetCommandSink(adapter, sink);

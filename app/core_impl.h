@@ -9,9 +9,8 @@
 #include <variant>
 
 #include "app/core.h"
-#include "app/domain_store.h"
+#include "app/document_store.h"
 #include "app/job_gate.h"
-#include "app/session_store.h"
 #include "app/storage.h"
 #include "planner/model/state_plan.h"
 #include "planner/solve/solve.h"
@@ -28,8 +27,8 @@ struct Core::Impl {
   JobGate gate;
   std::map<std::string, Domain> domains;
   std::shared_ptr<StorageHealth> storage;  // what the stores last did (storage.h)
-  std::unique_ptr<SessionStore> sessions;
-  std::unique_ptr<DomainStore> stored_domains;  // domains created through the API
+  std::unique_ptr<DocumentStore> sessions;
+  std::unique_ptr<DocumentStore> stored_domains;  // domains created through the API
   std::shared_ptr<LlmClient> demo_llm;
   std::atomic<bool> stopping{false};
   bool ready = false;

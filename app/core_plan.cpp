@@ -131,13 +131,13 @@ std::variant<TranslateAnswer, Error> Core::Translate(const TranslateCall& call,
 std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallContext& ctx) {
   // Everything cheap is checked before any LLM call or solve: the session (or the cap on new
   // ones) and the options.
-  std::optional<StoredSession> stored;
+  std::optional<StoredDocument> stored;
   std::optional<Session> session;
   std::optional<std::string> domain = call.domain;
   if (call.session) {
     auto got = impl_->sessions->Get(*call.session);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    stored = std::get<std::optional<StoredSession>>(got);
+    stored = std::get<std::optional<StoredDocument>>(got);
     if (!stored) return UnknownSession(*call.session);
     session = SessionFromDoc(stored->doc);
     if (domain && *domain != session->domain) return Bad("a session keeps its domain", "/domain");
@@ -180,7 +180,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
     }
     out.session = stored->id;
   } else {
-    StoredSession fresh;
+    StoredDocument fresh;
     fresh.id = RandomHex(16);
     fresh.doc = NewSessionDoc(tr.domain->name);
     UpdateSessionDoc(fresh.doc, conversation, tr.result.state_plan, turn);

@@ -79,7 +79,7 @@ std::variant<Json, Error> Core::Impl::ReadReportInWords(const Domain& d, const S
 }
 
 std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallContext& ctx) {
-  std::optional<StoredSession> stored;
+  std::optional<StoredDocument> stored;
   DomainRef ref = call.domain;
   Json state_plan = call.state_plan;
   Json request = call.request.is_object() ? call.request : Json::object();
@@ -88,7 +88,7 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
       return Bad("a session replans its own domain and state plan", "/session");
     auto got = impl_->sessions->Get(*call.session);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    stored = std::get<std::optional<StoredSession>>(got);
+    stored = std::get<std::optional<StoredDocument>>(got);
     if (!stored)
       return Error{ErrorCode::kNotFound, "unknown or expired session '" + Echo(*call.session) + "'",
                    {{"/session", std::nullopt, "start a new dialogue without \"session\""}}};

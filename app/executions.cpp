@@ -20,7 +20,7 @@ constexpr int kMaxReplansInARow = 8;
 constexpr long kMaxReplanLeadMs = 5000;
 
 // The store's 503: "the execution store failed (why); <what then>".
-Error StoreFailed(const SessionStore& store, const std::string& then) {
+Error StoreFailed(const DocumentStore& store, const std::string& then) {
   const std::string why = store.LastError();
   return {ErrorCode::kUnavailable, "the execution store failed" + (why.empty() ? "" : " (" + why + ")") + "; " + then, {}};
 }
@@ -51,7 +51,7 @@ struct Executions::Live {
 
   std::string id;
   std::shared_ptr<const Domain> domain;
-  StoredSession stored;  // the stored document and its version
+  StoredDocument stored;  // the stored document and its version
   exec::Run run;
   std::optional<exec::SimTeam> sim;
   RequestOptions options;
@@ -77,7 +77,7 @@ struct Executions::Live {
   std::thread thread;
 };
 
-Executions::Executions(Core& core, std::unique_ptr<SessionStore> store, long lease_ms, bool shared)
+Executions::Executions(Core& core, std::unique_ptr<DocumentStore> store, long lease_ms, bool shared)
     : core_(core), store_(std::move(store)), lease_ms_(lease_ms), shared_(shared), me_(RandomHex(8)) {}
 
 Executions::~Executions() { StopAll(); }
@@ -390,9 +390,9 @@ int Executions::Claim(bool at_start) {
   for (const auto& id : std::get<std::vector<std::string>>(ids)) {
     if (Find(id)) continue;
     auto got = store_->Get(id);
-    auto* s = std::get_if<std::optional<StoredSession>>(&got);
+    auto* s = std::get_if<std::optional<StoredDocument>>(&got);
     if (!s || !*s || (**s).doc.value("run", Json::object()).value("state", "") != "running") continue;
-    StoredSession stored = **s;
+    StoredDocument stored = **s;
     // A file of this process alone (SQLite): what runs in it was this server's before a restart.
     // A shared store: another replica's while its claim lasts.
     if ((shared_ || !at_start) && stored.doc.value("lease_until_ms", 0L) > store::NowMs()) continue;
@@ -407,7 +407,7 @@ int Executions::Claim(bool at_start) {
   return claimed;
 }
 
-std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredSession& stored) {
+std::shared_ptr<Executions::Live> Executions::LiveFrom(const StoredDocument& stored) {
   const Json& doc = stored.doc;
   const std::string& id = stored.id;
   auto dom = domain_of_ ? domain_of_(doc) : std::variant<std::shared_ptr<const Domain>, Error>(
@@ -472,7 +472,7 @@ std::variant<std::vector<Json>, Error> Executions::Histories(const std::string& 
     }
     auto got = store_->Get(id);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    const auto& s = std::get<std::optional<StoredSession>>(got);
+    const auto& s = std::get<std::optional<StoredDocument>>(got);
     if (s && !s->doc.contains("action_model") && s->doc.value("domain", "") == domain)
       out.push_back(s->doc.value("run", Json::object()).value("history", Json::array()));
   }
@@ -488,7 +488,7 @@ std::variant<Json, Error> Executions::Get(const std::string& id) {
   }
   auto got = store_->Get(id);
   if (auto* e = std::get_if<Error>(&got)) return *e;
-  const auto& s = std::get<std::optional<StoredSession>>(got);
+  const auto& s = std::get<std::optional<StoredDocument>>(got);
   if (!s) return NotFound(id);
   const double now = static_cast<double>(store::NowMs() - s->doc.value("origin_ms", 0L)) *
                      s->doc.value("speed", 1.0) / 1000.0;
@@ -576,7 +576,7 @@ std::variant<std::vector<ExecutionEvent>, Error> Executions::Events(const std::s
   if (!live) {
     auto got = store_->Get(id);
     if (auto* e = std::get_if<Error>(&got)) return *e;
-    const auto& s = std::get<std::optional<StoredSession>>(got);
+    const auto& s = std::get<std::optional<StoredDocument>>(got);
     if (!s) return NotFound(id);
     std::vector<ExecutionEvent> out;
     for (auto& e : StoredEvents(s->doc))

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "app/core.h"
-#include "app/session_store.h"
+#include "app/document_store.h"
 #include "executive/run.h"
 #include "executive/sim.h"
 
@@ -25,7 +25,7 @@ class Executions {
  public:
   // lease_ms: how long this replica's claim on an execution lasts unless renewed; shared: the
   // store is shared with other replicas (Redis), so claims are renewed and expired ones taken over.
-  Executions(Core& core, std::unique_ptr<SessionStore> store, long lease_ms, bool shared);
+  Executions(Core& core, std::unique_ptr<DocumentStore> store, long lease_ms, bool shared);
   ~Executions();  // stops every thread (executions stay stored and resume at the next start)
 
   using DomainOf = std::function<std::variant<std::shared_ptr<const Domain>, Error>(const Json& doc)>;
@@ -63,10 +63,10 @@ class Executions {
   std::shared_ptr<CommandSink> SinkFor(const Live& live);
   int Claim(bool at_start);  // the executions claimed, -1 when the store could not be listed
   void Scan(bool resumed);
-  std::shared_ptr<Live> LiveFrom(const StoredSession& stored);
+  std::shared_ptr<Live> LiveFrom(const StoredDocument& stored);
 
   Core& core_;
-  std::unique_ptr<SessionStore> store_;
+  std::unique_ptr<DocumentStore> store_;
   std::mutex mu_;
   std::map<std::string, std::shared_ptr<Live>> live_;
   std::vector<std::shared_ptr<Live>> retired_;  // let go and replaced by a later claim

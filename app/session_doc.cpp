@@ -2,7 +2,7 @@
 
 #include <ctime>
 
-#include "app/session_store.h"
+#include "app/document_store.h"
 
 namespace ctb::app {
 
@@ -67,7 +67,7 @@ Json TurnRecord(const Json& command, const std::string& reasoning, const Json& s
   return turn;
 }
 
-Json SessionView(const StoredSession& s) {
+Json SessionView(const StoredDocument& s) {
   Json turns = s.doc.is_object() && s.doc.contains("turns") && s.doc["turns"].is_array() ? s.doc["turns"] : Json::array();
   return {{"session", s.id}, {"domain", s.doc.is_object() ? s.doc.value("domain", "") : ""}, {"turns", turns},
           {"created", Iso8601(s.created_ms)}, {"updated", Iso8601(s.updated_ms)}};

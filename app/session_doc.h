@@ -34,8 +34,8 @@ void UpdateSessionDoc(Json& doc, const std::vector<ChatMessage>& conversation, c
 // horizon, goal_reached_at, verified) and the time (ISO 8601 UTC).
 Json TurnRecord(const Json& command, const std::string& reasoning, const Json& state_plan, const Json& trajectory);
 
-struct StoredSession;
+struct StoredDocument;
 // GET /sessions/{id}: {"session", "domain", "turns", "created", "updated"}.
-Json SessionView(const StoredSession& s);
+Json SessionView(const StoredDocument& s);
 
 }  // namespace ctb::app

@@ -19,9 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 using store::Stmt;
 
-// The tables of versioned documents and their keys (session_store_sqlite.cpp, domain_store_sqlite.cpp).
-const std::pair<const char*, const char*> kTables[] = {{"sessions", "id"}, {"executions", "id"}, {"domains", "name"}};
-
 bool IsDamage(int rc) {
   rc &= 0xff;
   return rc == SQLITE_CORRUPT || rc == SQLITE_NOTADB;
@@ -132,9 +129,9 @@ long Salvage(const std::string& from, const std::string& to) {
   if (sqlite3_open_v2(padded.c_str(), &src, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK &&
       sqlite3_open_v2(to.c_str(), &dst, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) == SQLITE_OK) {
     sqlite3_exec(dst, "PRAGMA journal_mode=WAL; BEGIN", nullptr, nullptr, nullptr);
-    for (const auto& [table, key] : kTables)
-      if (sqlite3_exec(dst, store::TableSql(table, key).c_str(), nullptr, nullptr, nullptr) == SQLITE_OK)
-        n += CopyRows(src, dst, table, key);
+    for (const auto& k : store::kKinds)  // the tables of versioned documents (document_store.h)
+      if (sqlite3_exec(dst, store::TableSql(k.table, k.key).c_str(), nullptr, nullptr, nullptr) == SQLITE_OK)
+        n += CopyRows(src, dst, k.table, k.key);
     sqlite3_exec(dst, "COMMIT", nullptr, nullptr, nullptr);
   }
   sqlite3_close(src);

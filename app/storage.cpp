@@ -121,19 +121,38 @@ Error StoreFailed(const StorageHealth& health, const std::string& store) {
 namespace {
 
 // The store behind a guard: opened when it can be, every outcome reported to the health.
-template <class Store>
-class Guard {
+class GuardedDocumentStore : public DocumentStore {
  public:
-  using Opener = std::function<std::variant<std::unique_ptr<Store>, Error>()>;
-  Guard(Opener open, std::string name, std::shared_ptr<StorageHealth> health)
+  GuardedDocumentStore(DocumentStoreOpener open, std::string name, std::shared_ptr<StorageHealth> health)
       : open_(std::move(open)), name_(std::move(name)), health_(std::move(health)) {
     Open();
-    health_->Watch(name_, [this] { Probe(); });
+    health_->Watch(name_, [this] {
+      if (auto s = Open()) Report(s->Probe(), *s, true);  // the store's own write probe, as a write
+    });
   }
-  ~Guard() { health_->Unwatch(name_); }
-  Guard(const Guard&) = delete;
-  Guard& operator=(const Guard&) = delete;
+  ~GuardedDocumentStore() override { health_->Unwatch(name_); }
+  GuardedDocumentStore(const GuardedDocumentStore&) = delete;
+  GuardedDocumentStore& operator=(const GuardedDocumentStore&) = delete;
 
+  std::variant<std::optional<StoredDocument>, Error> Get(const std::string& id) override {
+    return Fetch<std::variant<std::optional<StoredDocument>, Error>>([&](DocumentStore& s) { return s.Get(id); });
+  }
+  StoreResult Create(StoredDocument& d) override { return Call([&](DocumentStore& s) { return s.Create(d); }); }
+  StoreResult Write(StoredDocument& d, bool any_version) override {
+    return Call([&](DocumentStore& s) { return s.Write(d, any_version); });
+  }
+  StoreResult Delete(const std::string& id) override { return Call([&](DocumentStore& s) { return s.Delete(id); }); }
+  long Count() override { return Number([](DocumentStore& s) { return s.Count(); }); }
+  long CountWhere(const std::string& field, const std::string& value) override {
+    return Number([&](DocumentStore& s) { return s.CountWhere(field, value); });
+  }
+  std::variant<std::vector<std::string>, Error> List() override {
+    return Fetch<std::variant<std::vector<std::string>, Error>>([](DocumentStore& s) { return s.List(); });
+  }
+  std::string LastError() const override { return health_->Why(name_); }
+  bool Probe() override { return true; }  // the guard probes the store inside
+
+ private:
   // A call that reads (a variant of a value or an Error): the Error names the store and why.
   template <class R, class F>
   R Fetch(F f) {
@@ -163,31 +182,20 @@ class Guard {
     Report(n >= 0, *s, false);
     return n;
   }
-  // The store's own write probe (Probe()), as a write.
-  void Probe() {
-    if (auto s = Open()) Report(s->Probe(), *s, true);
-  }
-  std::string Describe() const {
-    std::lock_guard<std::mutex> lock(mu_);
-    return inner_ ? inner_->Describe() : name_ + " store (not open: " + why_ + ")";
-  }
-  std::string LastError() const { return health_->Why(name_); }
-
- private:
-  void Report(bool ok, const Store& s, bool write) {
+  void Report(bool ok, const DocumentStore& s, bool write) {
     if (ok) health_->Worked(name_, write);
     else health_->Failed(name_, s.LastError(), write);
   }
   Error Failed() const { return StoreFailed(*health_, name_); }
 
-  std::shared_ptr<Store> Open() {
+  std::shared_ptr<DocumentStore> Open() {
     std::lock_guard<std::mutex> lock(mu_);
     if (inner_) return inner_;
     const long now = NowMs();
     if (tried_ms_ == 0 || now - tried_ms_ >= kRetryOpenMs) {
       tried_ms_ = now;
       auto opened = open_();
-      if (auto* s = std::get_if<std::unique_ptr<Store>>(&opened)) {
+      if (auto* s = std::get_if<std::unique_ptr<DocumentStore>>(&opened)) {
         inner_ = std::move(*s);
         health_->Worked(name_, false);
         return inner_;
@@ -198,74 +206,20 @@ class Guard {
     return nullptr;
   }
 
-  Opener open_;
+  DocumentStoreOpener open_;
   std::string name_;
   std::shared_ptr<StorageHealth> health_;
-  mutable std::mutex mu_;
-  std::shared_ptr<Store> inner_;
+  std::mutex mu_;
+  std::shared_ptr<DocumentStore> inner_;
   long tried_ms_ = 0;
   std::string why_;
 };
 
-class GuardedSessionStore : public SessionStore {
- public:
-  GuardedSessionStore(SessionStoreOpener open, std::string name, std::shared_ptr<StorageHealth> h)
-      : g_(std::move(open), std::move(name), std::move(h)) {}
-
-  std::variant<std::optional<StoredSession>, Error> Get(const std::string& id) override {
-    return g_.Fetch<std::variant<std::optional<StoredSession>, Error>>([&](SessionStore& s) { return s.Get(id); });
-  }
-  StoreResult Create(StoredSession& d) override { return g_.Call([&](SessionStore& s) { return s.Create(d); }); }
-  StoreResult Update(StoredSession& d) override { return g_.Call([&](SessionStore& s) { return s.Update(d); }); }
-  StoreResult Delete(const std::string& id) override { return g_.Call([&](SessionStore& s) { return s.Delete(id); }); }
-  long Count() override { return g_.Number([](SessionStore& s) { return s.Count(); }); }
-  long CountUsing(const std::string& domain) override {
-    return g_.Number([&](SessionStore& s) { return s.CountUsing(domain); });
-  }
-  std::variant<std::vector<std::string>, Error> List() override {
-    return g_.Fetch<std::variant<std::vector<std::string>, Error>>([](SessionStore& s) { return s.List(); });
-  }
-  std::string Describe() const override { return g_.Describe(); }
-  std::string LastError() const override { return g_.LastError(); }
-  bool Probe() override { return true; }  // the guard probes the store inside
-
- private:
-  Guard<SessionStore> g_;
-};
-
-class GuardedDomainStore : public DomainStore {
- public:
-  GuardedDomainStore(DomainStoreOpener open, std::shared_ptr<StorageHealth> h)
-      : g_(std::move(open), "domain", std::move(h)) {}
-
-  std::variant<std::optional<StoredDomain>, Error> Get(const std::string& name) override {
-    return g_.Fetch<std::variant<std::optional<StoredDomain>, Error>>([&](DomainStore& s) { return s.Get(name); });
-  }
-  std::variant<std::vector<std::string>, Error> List() override {
-    return g_.Fetch<std::variant<std::vector<std::string>, Error>>([](DomainStore& s) { return s.List(); });
-  }
-  StoreResult Create(StoredDomain& d) override { return g_.Call([&](DomainStore& s) { return s.Create(d); }); }
-  StoreResult Replace(StoredDomain& d) override { return g_.Call([&](DomainStore& s) { return s.Replace(d); }); }
-  StoreResult Delete(const std::string& name) override {
-    return g_.Call([&](DomainStore& s) { return s.Delete(name); });
-  }
-  std::string Describe() const override { return g_.Describe(); }
-  std::string LastError() const override { return g_.LastError(); }
-  bool Probe() override { return true; }  // the guard probes the store inside
-
- private:
-  Guard<DomainStore> g_;
-};
-
 }  // namespace
 
-std::unique_ptr<SessionStore> GuardSessionStore(SessionStoreOpener open, std::string store,
-                                                std::shared_ptr<StorageHealth> health) {
-  return std::make_unique<GuardedSessionStore>(std::move(open), std::move(store), std::move(health));
-}
-
-std::unique_ptr<DomainStore> GuardDomainStore(DomainStoreOpener open, std::shared_ptr<StorageHealth> health) {
-  return std::make_unique<GuardedDomainStore>(std::move(open), std::move(health));
+std::unique_ptr<DocumentStore> GuardDocumentStore(DocumentStoreOpener open, std::string store,
+                                                  std::shared_ptr<StorageHealth> health) {
+  return std::make_unique<GuardedDocumentStore>(std::move(open), std::move(store), std::move(health));
 }
 
 }  // namespace ctb::app

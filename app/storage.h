@@ -4,7 +4,7 @@
 //
 // - StorageHealth: what the stores last did, for /healthz, /readyz, /metrics and the log (one
 //   line when a store starts failing, one when it works again, a reminder every 30 s between).
-// - GuardSessionStore / GuardDomainStore: a store behind a guard that opens it when it can (a
+// - GuardDocumentStore: a store behind a guard that opens it when it can (a
 //   read-only or missing data directory, Redis down at start: the server starts anyway and the
 //   store opens on a later call, at most one try a second) and reports every result to the health.
 // - CheckSqliteFile: the database file's integrity at start; a damaged file is never written
@@ -19,8 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "app/domain_store.h"
-#include "app/session_store.h"
+#include "app/document_store.h"
 
 namespace ctb::app {
 
@@ -67,14 +66,13 @@ class StorageHealth {
 // The store's 503: "the session store failed (database or disk is full); retry later".
 Error StoreFailed(const StorageHealth& health, const std::string& store);
 
-using SessionStoreOpener = std::function<std::variant<std::unique_ptr<SessionStore>, Error>()>;
-using DomainStoreOpener = std::function<std::variant<std::unique_ptr<DomainStore>, Error>()>;
+using DocumentStoreOpener = std::function<std::variant<std::unique_ptr<DocumentStore>, Error>()>;
 
-// Opens at once if it can; otherwise the store opens on a later call. Never fails.
-std::unique_ptr<SessionStore> GuardSessionStore(SessionStoreOpener open, std::string store,
-                                                std::shared_ptr<StorageHealth> health);
-std::unique_ptr<DomainStore> GuardDomainStore(DomainStoreOpener open,
-                                              std::shared_ptr<StorageHealth> health);
+// The store `open` gives, reported to `health` as `store` ("session", "domain", "execution"):
+// opened at once if it can be, otherwise on a later call. Never fails. A read that fails gives
+// StoreFailed(health, store); LastError() is health.Why(store); Probe() is the guard's own.
+std::unique_ptr<DocumentStore> GuardDocumentStore(DocumentStoreOpener open, std::string store,
+                                                  std::shared_ptr<StorageHealth> health);
 
 struct SqliteFileCheck {
   bool damaged = false;

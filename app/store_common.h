@@ -1,5 +1,5 @@
-// What the SQLite and Redis stores of sessions and domains share: the clock, the document's
-// text, an SQLite statement and a Redis connection. Internal to app/.
+// What the document stores (document_store.h) share inside app/: the clock, the document's text,
+// the kinds and their tables, an SQLite statement, a Redis connection, and the backends' openers.
 #pragma once
 
 #include <hiredis/hiredis.h>
@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/document_store.h"
 #include "planner/model/json_io.h"
 
 namespace ctb::app::store {
@@ -23,14 +24,29 @@ inline long NowMs() {
 // A stored document's text (invalid UTF-8 replaced, never throws).
 inline std::string Dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
 
-// The SQL that creates a table of versioned documents keyed by `key` (the stores and the salvage
-// of a damaged file share it).
+// The kinds of document, their SQLite tables and key columns (the stores and the salvage of a
+// damaged file share them).
+struct Kind {
+  const char* kind;
+  const char* table;
+  const char* key;
+};
+inline constexpr Kind kKinds[] = {
+    {"session", "sessions", "id"}, {"execution", "executions", "id"}, {"domain", "domains", "name"}};
+// The key column of `kind`'s table ("id" for a kind not listed).
+inline std::string KeyColumn(const std::string& kind) {
+  for (const auto& k : kKinds)
+    if (kind == k.kind) return k.key;
+  return "id";
+}
+
+// The SQL that creates a table of versioned documents keyed by `key`.
 inline std::string TableSql(const std::string& table, const std::string& key) {
   return "CREATE TABLE IF NOT EXISTS " + table + "(" + key + " TEXT PRIMARY KEY, version INTEGER NOT NULL,"
          " created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, doc TEXT NOT NULL);";
 }
 
-// The heartbeat row that SessionStore::Probe and DomainStore::Probe write.
+// The heartbeat row that DocumentStore::Probe writes.
 inline const std::string kProbeTableSql = "CREATE TABLE IF NOT EXISTS ctb_probe(id INTEGER PRIMARY KEY, at_ms INTEGER NOT NULL);";
 
 // One prepared SQLite statement, finalized on destruction.
@@ -63,7 +79,7 @@ class Stmt {
   sqlite3_stmt* s_ = nullptr;
 };
 
-// The heartbeat write of SessionStore::Probe and DomainStore::Probe on an SQLite connection.
+// The heartbeat write of DocumentStore::Probe on an SQLite connection.
 inline bool WriteProbe(sqlite3* db) {
   Stmt up(db, "INSERT OR REPLACE INTO ctb_probe(id, at_ms) VALUES (1, ?)");
   return up.ok() && up.Bind(1, NowMs()).Step() == SQLITE_DONE;
@@ -129,12 +145,9 @@ class RedisConn {
     return r && r->type != REDIS_REPLY_ERROR;
   }
 
-  // Why the last call failed (the caller holds its mutex).
+  // Why the last call failed, or what the caller found wrong in a reply (the caller holds its mutex).
   const std::string& last_error() const { return last_error_; }
-
-  std::string Describe() const {
-    return "redis://" + host_ + ":" + std::to_string(port_) + "/" + std::to_string(db_);
-  }
+  void set_last_error(std::string why) { last_error_ = std::move(why); }
 
  private:
   redisReply* Command(const std::vector<std::string>& args) {
@@ -154,5 +167,12 @@ class RedisConn {
   std::string host_;
   int port_, db_;
 };
+
+// The backends (document_store_sqlite.cpp, document_store_redis.cpp): null with `error` set when
+// the store cannot be opened.
+std::unique_ptr<DocumentStore> OpenSqliteDocuments(const std::string& path, const DocumentStoreConfig& c,
+                                                   std::string& error);
+std::unique_ptr<DocumentStore> OpenRedisDocuments(const std::string& host, int port, int db,
+                                                  const DocumentStoreConfig& c, std::string& error);
 
 }  // namespace ctb::app::store
