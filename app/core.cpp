@@ -100,7 +100,7 @@ std::variant<std::unique_ptr<Core>, Error> Core::Open(const CoreConfig& cfg) {
     else
       spdlog::warn("{}", LogText("--demo: no recordings in '" + cfg.recordings_dir + "'"));
   }
-  impl->ready = MiniZincAvailable(cfg.minizinc);
+  impl->ready = !cfg.probe_solver || MiniZincAvailable(cfg.minizinc);
   if (!impl->ready) spdlog::warn("{}", LogText("minizinc is not runnable: solves fail"));
   std::unique_ptr<Core> core(new Core(std::move(impl)));
   if (auto e = OpenExecutions(*core, *core->impl_)) return *e;

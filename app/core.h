@@ -59,6 +59,10 @@ struct CoreConfig {
   // (Redis) store another replica takes over an execution whose claim ran out.
   long execution_lease_ms = 3000;
   bool demo = false;
+  // Runs a one-variable model at start-up to learn whether MiniZinc works (/readyz, a warning in
+  // the log). The CLI's one-shot core skips it (a third of a small solve's process time): a solve
+  // that needs MiniZinc and cannot run it says so itself.
+  bool probe_solver = true;
   LlmConfig llm;
   // Adapters registered before the stored executions resume (as SetCommandSink would), so that a
   // resumed execution's first commands find theirs: adapter name ("mqtt") -> sink.

@@ -18,6 +18,7 @@ std::variant<std::unique_ptr<app::Core>, Error> OpenLocalCore(const std::string&
   c.solver_workers = 1;
   c.solver_queue = 0;
   c.solver_memory_mb = 0;  // a local run is limited by the user's own machine
+  c.probe_solver = false;
   c.default_time_limit_ms = 60000;
   c.max_time_limit_ms = 3600 * 1000;
   c.max_horizon_limit = kMaxHorizonLimit;
