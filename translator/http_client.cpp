@@ -103,15 +103,19 @@ class HttpClient : public LlmClient {
     const std::string body = ChatBody(cfg_.model, req).dump(-1, ' ', false, Json::error_handler_t::replace);
     const std::string url = Url();
     std::mt19937 rng(std::random_device{}());
+    Error last{ErrorCode::kUpstreamFailed, "no attempt made", {}};
+    bool failed_once = false;  // `last` holds why an attempt failed
+    // The budget is spent; why the attempts before failed, when they did (a refused connection
+    // retried until the time ran out on a slow machine is still a refused connection).
     auto timed_out = [&] {
       return Error{ErrorCode::kUpstreamTimeout,
                    "LLM endpoint did not answer within " + std::to_string(cfg_.timeout_ms) +
-                       " ms (CTB_LLM_TIMEOUT_MS, retries included)", {}};
+                       " ms (CTB_LLM_TIMEOUT_MS, retries included)" +
+                       (failed_once ? "; the last attempt: " + last.message : std::string()), {}};
     };
     auto remaining_ms = [&] {
       return std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
     };
-    Error last{ErrorCode::kUpstreamFailed, "no attempt made", {}};
     for (int attempt = 0; attempt <= cfg_.max_retries; ++attempt) {
       long budget = remaining_ms();
       if (budget <= 0) return timed_out();
@@ -131,11 +135,13 @@ class HttpClient : public LlmClient {
         if (rc == CURLE_OPERATION_TIMEDOUT) return timed_out();  // the time budget is spent
         last = {ErrorCode::kUpstreamFailed,
                 std::string("cannot reach the LLM endpoint: ") + curl_easy_strerror(rc), {}};
+        failed_once = true;
       } else if (status == 200) {
         return ParseAnswer(answer.data);
       } else {
         last = {ErrorCode::kUpstreamFailed, "LLM endpoint answered HTTP " + std::to_string(status) +
                                                 UpstreamMessage(answer.data), {}};
+        failed_once = true;
         if (status == 401 || status == 403) {
           last.message = "LLM endpoint refused the request (HTTP " + std::to_string(status) +
                          "): check CTB_LLM_API_KEY";

@@ -381,6 +381,23 @@ TEST(HttpClient, UnreachableEndpointIsACleanError) {
   EXPECT_NE(std::get<Error>(r).message.find("cannot reach the LLM endpoint"), std::string::npos);
 }
 
+// Refused connections retried until the time budget is spent (found by the -j4 stress run: on a
+// loaded machine the budget ran out between retries and the answer said only "did not answer"):
+// however the budget ends, the error says why the attempts failed.
+TEST(HttpClient, AnEndpointRefusingUntilTheBudgetEndsIsStillNamedUnreachable) {
+  LlmConfig c;
+  c.base_url = "http://127.0.0.1:1/v1";
+  c.max_retries = 1000;
+  c.backoff_base_ms = 1;
+  c.timeout_ms = 200;
+  auto client = MakeHttpClient(c);
+  auto r = client->Complete(ChatRequest{{{"user", "hi"}}, false});
+  ASSERT_TRUE(std::holds_alternative<Error>(r));
+  const Error& e = std::get<Error>(r);
+  EXPECT_NE(e.message.find("cannot reach the LLM endpoint"), std::string::npos) << e.message;
+  EXPECT_GT(client->attempts(), 1) << "retried";
+}
+
 TEST(HttpClient, JsonModeAsksForJsonOutput) {
   MockLlmServer m;
   m.Then(MockReply::Chat("{}"));
