@@ -260,13 +260,13 @@ TEST(Domains, DraftsFromWordsAreCheckedRepairedAndNeverStored) {
 }
 
 TEST(Domains, ReplicasSharingRedisSeeTheSameDomains) {
-  if (!testing::Executable("/usr/bin/redis-server"))
-    GTEST_SKIP() << "redis-server missing: bash scripts/install-deps.sh --test";
+  ASSERT_TRUE(testing::Executable("/usr/bin/redis-server")) << "bash scripts/install-deps.sh --test";
   const std::string dir = testing::TempDir("domains-replicas");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = testing::Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind",
                                 "127.0.0.1", "--save", "", "--appendonly", "no", "--dir", dir},
                                dir + "/redis.log");
+  testing::StopAtExit stop_redis(redis);
   ASSERT_TRUE(testing::WaitForPort(redis_port, 5000)) << "redis-server did not start";
   const std::string store = "redis://127.0.0.1:" + std::to_string(redis_port) + "/2";
   {

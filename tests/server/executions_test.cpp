@@ -272,6 +272,7 @@ TEST(Executions, ASecondReplicaOnRedisTakesOverFromAKilledOne) {
   pid_t redis = testing::Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
                                 "--save", "", "--appendonly", "no", "--dir", dir},
                                dir + "/redis.log");
+  testing::StopAtExit stop_redis(redis);
   ASSERT_TRUE(testing::WaitForPort(redis_port, 5000)) << "redis-server did not start";
   const std::vector<std::string> store = {"--session-store", "redis://127.0.0.1:" + std::to_string(redis_port) + "/5"};
   const Json config = {{"execution_lease_ms", 1000}};

@@ -285,16 +285,35 @@ inline pid_t Spawn(const std::vector<std::string>& args, const std::string& log)
   return pid;
 }
 
-inline void StopChild(pid_t pid) {
+// SIGTERM, then SIGKILL after 5 s; `pid` is set to -1 so that stopping twice is harmless (a
+// reaped pid may already be another process's).
+inline void StopChild(pid_t& pid) {
   if (pid <= 0) return;
   kill(pid, SIGTERM);
   for (int i = 0; i < 250; ++i) {
-    if (waitpid(pid, nullptr, WNOHANG) == pid) return;
+    if (waitpid(pid, nullptr, WNOHANG) == pid) {
+      pid = -1;
+      return;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   kill(pid, SIGKILL);
   waitpid(pid, nullptr, 0);
+  pid = -1;
 }
+
+// Stops the child `pid` names when the scope ends, however the test leaves it (an ASSERT that
+// returns early must not leave a redis-server running).
+class StopAtExit {
+ public:
+  explicit StopAtExit(pid_t& pid) : pid_(pid) {}
+  ~StopAtExit() { StopChild(pid_); }
+  StopAtExit(const StopAtExit&) = delete;
+  StopAtExit& operator=(const StopAtExit&) = delete;
+
+ private:
+  pid_t& pid_;
+};
 
 inline bool WaitForPort(int port, long ms) {
   for (long t = 0; t < ms; t += 25) {

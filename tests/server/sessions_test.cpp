@@ -177,14 +177,15 @@ void KillOrphanedSolvers() {
 }
 
 TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
-  if (!Executable("/usr/bin/redis-server") || !Executable("/usr/sbin/nginx"))
-    GTEST_SKIP() << "redis-server or nginx missing: bash scripts/install-deps.sh --test";
+  ASSERT_TRUE(Executable("/usr/bin/redis-server") && Executable("/usr/sbin/nginx"))
+      << "redis-server or nginx missing: bash scripts/install-deps.sh --test";
   const int before = testing::SolverProcesses();
   const std::string dir = testing::TempDir("sessions-replicas");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
                        "--save", "", "--appendonly", "no", "--dir", dir},
                       dir + "/redis.log");
+  testing::StopAtExit stop_redis(redis);
   ASSERT_TRUE(WaitForPort(redis_port, 5000)) << "redis-server did not start";
 
   MockLlmServer m;
@@ -220,6 +221,7 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
       << "      proxy_pass http://ctb;\n      proxy_http_version 1.1;\n      proxy_set_header Connection \"\";\n"
       << "      proxy_read_timeout 120s;\n    }\n  }\n}\n";
   pid_t nginx = Spawn({"/usr/sbin/nginx", "-p", dir, "-c", dir + "/nginx.conf"}, dir + "/nginx.out");
+  testing::StopAtExit stop_nginx(nginx);
   ASSERT_TRUE(WaitForPort(proxy_port, 5000)) << "nginx did not start";
 
   httplib::Client c("127.0.0.1", proxy_port);
@@ -291,12 +293,13 @@ TEST(Replicas, TurnsAlternateAcrossReplicasAndAKilledReplicaLosesNoSession) {
 }
 
 TEST(Sessions, RedisStoreHasTheSameCapAndIdleExpiry) {
-  if (!Executable("/usr/bin/redis-server")) GTEST_SKIP() << "redis-server missing: bash scripts/install-deps.sh --test";
+  ASSERT_TRUE(Executable("/usr/bin/redis-server")) << "redis-server missing: bash scripts/install-deps.sh --test";
   const std::string dir = testing::TempDir("sessions-redis-cap");
   const int redis_port = testing::FreeLoopbackPort();
   pid_t redis = Spawn({"/usr/bin/redis-server", "--port", std::to_string(redis_port), "--bind", "127.0.0.1",
                        "--save", "", "--appendonly", "no", "--dir", dir},
                       dir + "/redis.log");
+  testing::StopAtExit stop_redis(redis);
   ASSERT_TRUE(WaitForPort(redis_port, 5000)) << "redis-server did not start";
   MockLlmServer m;
   Json plan = Example("presentation/test1_cot.json");

@@ -312,6 +312,7 @@ TEST(Storage, RedisDownAtStartAndStoppingMidDialogueIsRefusedByNameThenResumed) 
   ExpectStoreRefusal(Call(c, "POST", "/plan", plan), "session", "redis");
   EXPECT_EQ(m.Requests().size(), 0u) << "no LLM call for a turn that cannot be stored";
   pid_t redis = start_redis();
+  testing::StopAtExit stop_redis(redis);
   std::string id;
   ASSERT_TRUE(WaitFor([&] {
     auto r = Call(c, "POST", "/plan", plan);
