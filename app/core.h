@@ -26,6 +26,7 @@
 
 #include "app/budget.h"
 #include "app/metrics.h"
+#include "app/solution_event.h"
 #include "planner/model/domain.h"
 #include "planner/model/error.h"
 #include "planner/model/json_io.h"
@@ -75,9 +76,8 @@ class Observer {
   virtual ~Observer() = default;
   // stage: "translating" | "repairing" | "solving"; info: {"llm_call"?}.
   virtual void OnStage(const std::string& /*stage*/, const Json& /*info*/) {}
-  // Each improving verified plan: {"kind", "objective", "cost", "makespan", "horizon", "bound"?,
-  // "elapsed_ms"}.
-  virtual void OnSolution(const Json& /*progress*/) {}
+  // Each improving verified plan, typed; SolutionEventJson writes it as the contract's event.
+  virtual void OnSolution(const SolveProgress& /*progress*/) {}
   // An eval item's line (Core::Eval), as it ends.
   virtual void OnItem(const Json& /*line*/) {}
   // A stream's place among the solver jobs, reserved before its 200 head went out

@@ -16,30 +16,6 @@ namespace ctb::app {
 
 namespace {
 
-// 2430.0 -> 2430; 12.5 stays.
-Json Seconds(const Json& v) {
-  if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() &&
-      std::fabs(v.get<double>()) < 1e15)
-    return static_cast<long long>(v.get<double>());
-  return v;
-}
-
-// The planner's progress as the contract's `solution` event (objective in the kind's shape).
-Json SolutionEvent(const Json& p) {
-  Json data = p;
-  const std::string kind = p.value("kind", "cost");
-  Json makespan = Seconds(p.value("makespan", Json()));
-  data["makespan"] = makespan;
-  if (kind == "makespan")
-    data["objective"] = makespan;
-  else if (kind == "cost_then_makespan")
-    data["objective"] = {{"cost", p.value("cost", Json())}, {"makespan", makespan}};
-  else
-    data["objective"] = p.value("cost", Json());
-  data["solve_ms"] = p.value("elapsed_ms", Json());
-  return data;
-}
-
 std::optional<double> Number(const Json& v) {
   if (v.is_number()) return v.get<double>();
   if (v.is_object() && v.contains("cost") && v["cost"].is_number()) return v["cost"].get<double>();
@@ -223,7 +199,7 @@ std::variant<Answer, Error> Core::Impl::RunGated(
   if (ctx.observer) {
     ctx.observer->OnStage("solving", Json::object());
     Observer* obs = ctx.observer;
-    o.on_progress = [obs](const Json& p) { obs->OnSolution(SolutionEvent(p)); };
+    o.on_progress = [obs](const SolveProgress& p) { obs->OnSolution(p); };
   }
   // The watcher trips the job's flag when the front end says so or the core stops (it polls
   // them every 100 ms); a finished job wakes it at once, so the answer never waits for a tick.

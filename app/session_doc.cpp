@@ -3,8 +3,11 @@
 #include <ctime>
 
 #include "app/document_store.h"
+#include "app/store_common.h"
 
 namespace ctb::app {
+
+using store::NowMs;
 
 namespace {
 
@@ -17,12 +20,6 @@ std::string Iso8601(long ms) {
   char out[40];
   std::snprintf(out, sizeof out, "%s.%03ldZ", buf, ms % 1000);
   return out;
-}
-
-long NowMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<long>(ts.tv_sec) * 1000 + ts.tv_nsec / 1000000;
 }
 
 }  // namespace

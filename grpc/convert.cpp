@@ -99,11 +99,12 @@ pb::PlanResult ResultOf(const app::Answer& a) {
   return r;
 }
 
-pb::PlanResult IntermediateOf(const Json& p) {
+pb::PlanResult IntermediateOf(const SolveProgress& progress) {
   pb::PlanResult r;
   r.set_status(pb::INTERMEDIATE);
-  if (p.contains("objective")) *r.mutable_objective() = ValueOf(p["objective"]);
-  if (p.contains("bound")) *r.mutable_bound() = ValueOf(p["bound"]);
+  const Json p = app::SolutionEventJson(progress);
+  *r.mutable_objective() = ValueOf(p["objective"]);
+  *r.mutable_bound() = ValueOf(progress.bound.ToJson());
   for (auto& [k, v] : p.items())
     if (!v.is_null() && !v.is_object())
       (*r.mutable_metrics())[k] = v.is_string() ? v.get<std::string>() : v.dump();

@@ -30,8 +30,9 @@ app::RequestOptions OptionsOf(const pb::Options& o);
 pb::PlanStatus StatusOf(const app::Answer& a);
 // The whole result of a solve; `intermediate` marks an improving plan in a stream.
 pb::PlanResult ResultOf(const app::Answer& a);
-// An improving plan from the core's observer ({"objective", "bound"?, "horizon", ...}).
-pb::PlanResult IntermediateOf(const Json& progress);
+// An improving plan from the core's observer: its objective and bound, and the numbers of its
+// `solution` event as metrics.
+pb::PlanResult IntermediateOf(const SolveProgress& progress);
 
 // An Error as a gRPC status: the code's mapping, every detail's "pointer: message" in the text,
 // and a google.rpc.BadRequest with a field violation per detail.

@@ -44,7 +44,7 @@ std::string PeerAddress(const std::string& peer) {
 class StreamObserver : public app::Observer {
  public:
   explicit StreamObserver(grpc::ServerWriter<pb::PlanResult>* w) : w_(w) {}
-  void OnSolution(const Json& progress) override { w_->Write(IntermediateOf(progress)); }
+  void OnSolution(const SolveProgress& progress) override { w_->Write(IntermediateOf(progress)); }
 
  private:
   grpc::ServerWriter<pb::PlanResult>* w_;

@@ -56,8 +56,8 @@ class SseObserver : public app::Observer {
     data["elapsed_ms"] = s_.ElapsedMs();
     s_.Send("stage", data);
   }
-  void OnSolution(const Json& progress) override {
-    Json data = progress;
+  void OnSolution(const SolveProgress& progress) override {
+    Json data = app::SolutionEventJson(progress);
     data["elapsed_ms"] = s_.ElapsedMs();
     s_.Send("solution", data);
   }

@@ -101,15 +101,8 @@ bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, 
   return false;
 }
 
-Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second) {
-  const Json makespan = ticks_per_second == 1 ? Json(b.makespan_ticks)
-                        : Json(static_cast<double>(b.makespan_ticks) / static_cast<double>(ticks_per_second));
-  switch (objective) {
-    case Objective::kCost: return b.cost;
-    case Objective::kMakespan: return makespan;
-    case Objective::kCostThenMakespan: return {{"cost", b.cost}, {"makespan", makespan}};
-  }
-  return nullptr;
+ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ticks_per_second) {
+  return {objective, b.cost, b.makespan_ticks, ticks_per_second};
 }
 
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {

@@ -9,6 +9,7 @@
 #include "planner/analyze/earliest.h"  // RequiredLocations
 #include "planner/model/domain.h"
 #include "planner/model/json_io.h"
+#include "planner/model/objective_value.h"
 #include "planner/model/state_plan.h"
 
 namespace ctb {
@@ -35,6 +36,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);
 
 // The bound in the shape of the answer's objective value: cost, makespan in seconds, or both.
-Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second);
+ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ticks_per_second);
+inline Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second) {
+  return BoundValue(b, objective, ticks_per_second).ToJson();
+}
 
 }  // namespace ctb

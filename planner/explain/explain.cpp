@@ -391,7 +391,7 @@ class Explainer {
     std::optional<CancelWatch> watch;
     if (!witness) {
       o.cancel = &stop;
-      o.on_progress = [&](const Json&) {
+      o.on_progress = [&](const SolveProgress&) {
         found = true;
         stop = true;
       };

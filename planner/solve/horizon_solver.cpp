@@ -319,11 +319,9 @@ class Solver {
         found_by_ = r.engine;
         if (!decided) AddEngine(engine_, r.engine);
         if (o_.on_progress)
-          o_.on_progress({{"kind", ObjectiveName(objective_)}, {"cost", p.cost}, {"horizon", h},
-                          {"makespan", static_cast<double>(p.makespan) / info_.ticks_per_second},
-                          {"elapsed_ms", MsSince(t0_)},
-                          {"bound", BoundJson(bounds_, objective_, info_.ticks_per_second)},
-                          {"found_by", r.engine}});
+          o_.on_progress({{objective_, p.cost, p.makespan, info_.ticks_per_second},
+                          BoundValue(bounds_, objective_, info_.ticks_per_second), h, MsSince(t0_),
+                          r.engine});
       }
     }
     if (decided) {

@@ -42,11 +42,8 @@ std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, con
     best = Plan{t, cost, makespan};
     found_ms = MsSince(t0);
     if (o.on_progress)
-      o.on_progress({{"kind", ObjectiveName(objective)}, {"cost", cost},
-                     {"horizon", t.goal_event},
-                     {"makespan", static_cast<double>(makespan) / static_cast<double>(tps)},
-                     {"elapsed_ms", found_ms}, {"bound", BoundJson(bounds, objective, tps)},
-                     {"found_by", "heuristic"}});
+      o.on_progress({{objective, cost, makespan, tps}, BoundValue(bounds, objective, tps), t.goal_event,
+                     found_ms, "heuristic"});
   };
   FirstPlanResult r = FindFirstPlan(d, sp, fo);
   Json info = {{"ms", r.elapsed_ms}, {"expanded", r.expanded}, {"generated", r.generated},

@@ -265,9 +265,9 @@ std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const
   const long offset = MsSince(t0);
   mono.time_limit_ms = std::max(1L, o.time_limit_ms - offset);
   if (o.on_progress)
-    mono.on_progress = [&o, offset](const Json& p) {
-      Json q = p;
-      q["elapsed_ms"] = p.value("elapsed_ms", 0L) + offset;  // since the solve began
+    mono.on_progress = [&o, offset](const SolveProgress& p) {
+      SolveProgress q = p;
+      q.elapsed_ms += offset;  // since the solve began
       o.on_progress(q);
     };
   Core c = SolveOneModel(d, sp, mono, incumbent);

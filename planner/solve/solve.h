@@ -31,6 +31,15 @@ enum class Controllability { kAuto, kDynamic, kStrong, kNone };
 const char* ControllabilityName(Controllability c);  // "auto" | "dynamic" | "strong" | "none"
 std::optional<Controllability> ParseControllability(const std::string& s);
 
+// An improving verified plan, as the solve keeps it (SolveOptions::on_progress).
+struct SolveProgress {
+  ObjectiveValue value;  // the plan's cost and makespan, in the solve's objective kind
+  ObjectiveValue bound;  // what no plan can beat (the same kind)
+  int horizon = 0;       // the plan's events
+  long elapsed_ms = 0;   // since the solve began
+  std::string found_by;  // the engine that found it
+};
+
 struct SolveOptions {
   std::optional<Objective> objective;  // overrides the state plan's
   std::optional<int> horizon;          // a fixed number of events
@@ -80,10 +89,9 @@ struct SolveOptions {
   long first_plan_ms = -1;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;
-  // Called on the calling thread each time a better verified plan is kept, with {"kind" (the
-  // objective), "cost", "makespan" (seconds), "horizon", "elapsed_ms", "bound", "found_by"}. Not
-  // called for the parts of a decomposed problem (their objectives are not the whole plan's).
-  std::function<void(const Json& progress)> on_progress;
+  // Called on the calling thread each time a better verified plan is kept. Not called for the
+  // parts of a decomposed problem (their objectives are not the whole plan's).
+  std::function<void(const SolveProgress& progress)> on_progress;
   // Replanning (planner/replan): the run begins with this fixed history (the encoder's and the
   // verifier's `history`), and `bounds`, valid given it, replace those computed from the initial
   // state. The first-plan engine starts from the history (but declines keep "started"); of the
