@@ -96,7 +96,15 @@ try {
   check("the durations seen are listed", rows >= 4, String(rows));
 
   // The team panel shows them too (and whether the team needs a revision).
+  // The panel loads its diagram, document and durations at once: the summary is clicked once
+  // they are in (found by the -j4 stress run: a click while the panel was still growing landed
+  // beside the summary and the list stayed closed).
   await page.click("#team-toggle");
+  await page.waitForSelector("#team-durations-body table.durations tr td", { state: "attached", timeout: 30000 });
+  await page.waitForFunction(() => {
+    const img = document.querySelector("#team-diagram");
+    return img && img.getAttribute("src") && img.complete;
+  }, null, { timeout: 30000 });
   await page.click("#team-durations summary");
   await page.waitForSelector("#team-durations-body table.durations tr td", { timeout: 10000 });
   check("the team panel lists the durations seen", await page.locator("#team-durations-body table.durations tr").count() >= 4);
