@@ -197,8 +197,17 @@ Z3Result SolveWithZ3(const ModelSpec& spec, const Z3Limits& limits) {
     r.variables = m.declared;
     Search(m, s, limits, t0, r);
   } catch (const z3::exception& ex) {
-    r = Z3Result{};
-    r.error = std::string("z3 failed: ") + ex.msg();
+    if (std::string(ex.msg()) == "canceled") {
+      // Interrupted (a cancel, the deadline) outside a check: while a plan was kept or its bound
+      // added. What was found stands, as after an interrupted check (found by the -j4 stress run:
+      // a plan meeting the bound set the cancel, and the answer was an error instead of it).
+      r.status = Cancelled(limits)  ? Z3Result::Status::kCancelled
+                 : r.solutions > 0 ? Z3Result::Status::kFeasible
+                                   : Z3Result::Status::kUnknown;
+    } else {
+      r = Z3Result{};
+      r.error = std::string("z3 failed: ") + ex.msg();
+    }
   } catch (const std::exception& ex) {
     r = Z3Result{};
     r.error = std::string("z3 engine failed: ") + ex.what();
