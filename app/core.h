@@ -392,4 +392,12 @@ std::variant<Json, Error> CheckNetworkBody(const Json& body);
 // into RequestOptions: type errors at their pointers.
 std::variant<RequestOptions, Error> ParseRequestOptions(const Json& options);
 
+// The "/options" of a replanning request (HTTP body, the CLI's --request): "keep" taken out (a
+// string; the core checks its value), the rest as ParseRequestOptions reads it.
+struct ReplanRequestOptions {
+  RequestOptions options;
+  std::string keep = "none";
+};
+std::variant<ReplanRequestOptions, Error> ParseReplanOptions(Json options);
+
 }  // namespace ctb::app

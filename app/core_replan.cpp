@@ -78,6 +78,19 @@ std::variant<Json, Error> Core::Impl::ReadReportInWords(const Domain& d, const S
   return Json{{"request", Merged(request, rep.fields)}, {"report", report}};
 }
 
+std::variant<ReplanRequestOptions, Error> ParseReplanOptions(Json options) {
+  ReplanRequestOptions out;
+  if (options.is_object() && options.contains("keep")) {
+    if (!options["keep"].is_string()) return Bad("keep must be none, started or min_change", "/options/keep");
+    out.keep = options["keep"];
+    options.erase("keep");
+  }
+  auto parsed = ParseRequestOptions(options);
+  if (auto* e = std::get_if<Error>(&parsed)) return *e;
+  out.options = std::get<RequestOptions>(parsed);
+  return out;
+}
+
 std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallContext& ctx) {
   std::optional<StoredDocument> stored;
   DomainRef ref = call.domain;

@@ -21,6 +21,7 @@
 #include "client/execute_sample.h"
 #include "client/execute_server.h"
 #include "client/local_core.h"
+#include "planner/replan/replan.h"
 
 namespace ctb::cli {
 
@@ -322,7 +323,7 @@ int RunExecute(const ExecuteCliOptions& o) {
                     o.dispatch, o.seed, o.runs, o.json, o.time_limit_ms};
     return RunSampledExecutions(s);
   }
-  if (o.keep != "none" && o.keep != "started" && o.keep != "min_change") {
+  if (!ParseKeep(o.keep)) {
     std::cerr << "error: --keep must be none, started or min_change\n";
     return 2;
   }

@@ -56,17 +56,12 @@ std::optional<Json> RequestBody(const ReplanCliOptions& o, Diagnostics& d) {
 // The replan call of the body: its "options" (keep among them) taken out, the flags over them.
 std::variant<app::ReplanCall, Error> CallOf(const ReplanCliOptions& o, Json body) {
   app::ReplanCall call;
-  Json options = body.contains("options") ? body["options"] : Json::object();
-  body.erase("options");
-  if (options.is_object() && options.contains("keep")) {
-    if (!options["keep"].is_string()) return Error{ErrorCode::kInvalidInput, "keep must be none, started or min_change", {{"/options/keep", std::nullopt, "must be a string"}}};
-    call.keep = options["keep"];
-    options.erase("keep");
-  }
-  if (!o.keep.empty()) call.keep = o.keep;
-  auto parsed = app::ParseRequestOptions(options);
+  auto parsed = app::ParseReplanOptions(body.value("options", Json::object()));
   if (auto* e = std::get_if<Error>(&parsed)) return *e;
-  call.options = std::get<app::RequestOptions>(parsed);
+  body.erase("options");
+  call.options = std::get<app::ReplanRequestOptions>(parsed).options;
+  call.keep = std::get<app::ReplanRequestOptions>(parsed).keep;
+  if (!o.keep.empty()) call.keep = o.keep;
   if (!o.objective.empty()) call.options.objective = o.objective;
   call.options.time_limit_ms = o.time_limit_ms;
   call.options.max_horizon = o.max_horizon;

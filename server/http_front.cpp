@@ -210,16 +210,10 @@ class HttpFrontEnd::Impl {
     call.request = Json::object();
     for (const char* k : {"now", "executed", "observed", "blocked", "trajectory"})
       if (body.contains(k)) call.request[k] = body[k];
-    Json options = body.value("options", Json::object());
-    if (options.is_object() && options.contains("keep")) {
-      if (!options["keep"].is_string())
-        return Bad("keep must be none, started or min_change", "/options/keep");
-      call.keep = options["keep"];
-      options.erase("keep");
-    }
-    auto opts = app::ParseRequestOptions(options);
+    auto opts = app::ParseReplanOptions(body.value("options", Json::object()));
     if (auto* e = std::get_if<Error>(&opts)) return *e;
-    call.options = std::get<app::RequestOptions>(opts);
+    call.options = std::get<app::ReplanRequestOptions>(opts).options;
+    call.keep = std::get<app::ReplanRequestOptions>(opts).keep;
     auto r = core_.Replan(call, Context(req, obs));
     if (auto* e = std::get_if<Error>(&r)) return *e;
     return JsonReply{200, std::get<app::Answer>(r).document};
