@@ -15,18 +15,8 @@ fail=0
 ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fail=$((fail + 1)); }
 
-PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-CTB_CONFIG_DIR=$SRC/config "$BIN" serve --port "$PORT" --data-dir "$T/data" > /dev/null 2> "$T/serve.log" &
-SERVER=$!
-python3 - "$PORT" <<'PY'
-import sys, time, urllib.request
-for _ in range(400):
-    try:
-        urllib.request.urlopen(f"http://127.0.0.1:{sys.argv[1]}/healthz", timeout=1)
-        break
-    except Exception:
-        time.sleep(0.05)
-PY
+. "$SRC/tests/cli/serve.sh"
+start_server "$T/data" "$T/serve.log"
 
 post() {  # post PATH BODY_FILE OUT_FILE: the raw answer body
   python3 - "$PORT" "$1" "$2" "$3" <<'PY'

@@ -175,18 +175,8 @@ else bad "uncontrollable plan (rc=$rc): $out"; fi
 # --server: the execution runs in a real `ctburton serve` on its simulated team (contract 14);
 # "Rescue person 1 fast" with 30 % of moves failing and seed 2 fails one move, replans and
 # succeeds; the events come back one JSON object a line, then the summary; exit 0.
-PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-CTB_CONFIG_DIR=$SRC/config "$BIN" serve --port "$PORT" --data-dir "$T/data" > /dev/null 2> "$T/serve.log" &
-SERVER=$!
-python3 - "$PORT" <<'PY'
-import sys, time, urllib.request
-for _ in range(400):
-    try:
-        urllib.request.urlopen(f"http://127.0.0.1:{sys.argv[1]}/healthz", timeout=1)
-        break
-    except Exception:
-        time.sleep(0.05)
-PY
+. "$SRC/tests/cli/serve.sh"
+start_server "$T/data" "$T/serve.log"
 cat > "$T/fast.json" <<'JSON'
 {"initial_state": {"robot1": "outside", "robot2": "outside", "door1": "closed", "door2": "closed", "door3": "open"},
  "end_state": {"maintenance_constraint": "true", "goal_constraint": "robot1[i+1]==rescuedPerson1"},
