@@ -22,7 +22,7 @@ inline long NowMs() {
 }
 
 // A stored document's text (invalid UTF-8 replaced, never throws).
-inline std::string Dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+inline std::string Dump(const Json& j) { return WireText(j); }
 
 // The kinds of document, their SQLite tables and key columns (the stores and the salvage of a
 // damaged file share them).

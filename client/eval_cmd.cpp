@@ -44,7 +44,7 @@ int RunEval(const EvalCliOptions& o) {
     valid += line["valid"].get<bool>();
     solvable += line["solvable"].get<bool>();
     if (o.json) {
-      std::cout << line.dump(-1, ' ', false, Json::error_handler_t::replace) << std::endl;
+      std::cout << WireText(line) << std::endl;
       return;
     }
     std::cout << "item " << line["item"] << " (" << line["domain"].get<std::string>() << "): "

@@ -158,7 +158,7 @@ void FillValue(const Json& j, Value* v) {
 std::optional<std::string> SetField(const Json& v, Message* m, const FieldDescriptor* f) {
   const Reflection* r = m->GetReflection();
   const bool rep = f->is_repeated();
-  const std::string bad = "field " + f->name() + ": " + v.dump(-1, ' ', false, Json::error_handler_t::replace).substr(0, 64) + " is not ";
+  const std::string bad = "field " + f->name() + ": " + WireText(v).substr(0, 64) + " is not ";
   auto integer = [&](long long lo, long long hi) -> std::optional<long long> {
     auto n = Integer(v);
     return n && *n >= lo && *n <= hi ? n : std::nullopt;

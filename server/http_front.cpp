@@ -418,7 +418,7 @@ class HttpFrontEnd::Impl {
         } else {
           for (const auto& ev : std::get<std::vector<app::ExecutionEvent>>(r)) {
             out += "id: " + std::to_string(ev.seq) + "\nevent: " + ev.name + "\ndata: " +
-                   ev.data.dump(-1, ' ', false, Json::error_handler_t::replace) + "\n\n";
+                   WireText(ev.data) + "\n\n";
             after = ev.seq;
           }
           if (out.empty() && !done) out = ": waiting\n\n";  // keeps proxies and dead peers honest
