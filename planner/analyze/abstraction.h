@@ -103,10 +103,14 @@ class SatSearch {
       case Expr::Op::kTrue: return Tv::kTrue;
       case Expr::Op::kFalse: return Tv::kFalse;
       case Expr::Op::kNot: return Not(Eval(e.kids[0], change, before));
-      case Expr::Op::kAnd:
-        return And(Eval(e.kids[0], change, before), Eval(e.kids[1], change, before));
-      case Expr::Op::kOr:
-        return Or(Eval(e.kids[0], change, before), Eval(e.kids[1], change, before));
+      case Expr::Op::kAnd: {  // a false (true) side decides a conjunction (disjunction) alone
+        const Tv a = Eval(e.kids[0], change, before);
+        return a == Tv::kFalse ? a : And(a, Eval(e.kids[1], change, before));
+      }
+      case Expr::Op::kOr: {
+        const Tv a = Eval(e.kids[0], change, before);
+        return a == Tv::kTrue ? a : Or(a, Eval(e.kids[1], change, before));
+      }
       case Expr::Op::kImplies:
         return Or(Not(Eval(e.kids[0], change, before)), Eval(e.kids[1], change, before));
       case Expr::Op::kIff: {
@@ -114,7 +118,9 @@ class SatSearch {
         if (a == Tv::kUnknown || b == Tv::kUnknown) return Tv::kUnknown;
         return a == b ? Tv::kTrue : Tv::kFalse;
       }
-      case Expr::Op::kAtom: break;
+      case Expr::Op::kAtom:
+      case Expr::Op::kEvery:  // quantifiers are expanded at load: unknown if one were left
+      case Expr::Op::kAny: break;
     }
     if (e.var_kind != VarKind::kLocation) return Tv::kUnknown;
     int value;

@@ -33,7 +33,7 @@ Clauses ToClauses(const Expr& e) {
     case Expr::Op::kAnd: {
       Clauses out = ToClauses(e.kids[0]);
       for (Clause& c : ToClauses(e.kids[1])) {
-        if (out.size() >= kMaxClauses) break;
+        if (out.size() >= kMaxConjunctionClauses) break;
         out.push_back(std::move(c));
       }
       return out;

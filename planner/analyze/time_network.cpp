@@ -71,7 +71,9 @@ Tv InitialValue(const Expr& e, const std::vector<int>& init) {
       if (a == Tv::kUnknown || b == Tv::kUnknown) return Tv::kUnknown;
       return a == b ? Tv::kTrue : Tv::kFalse;
     }
-    case Expr::Op::kAtom: break;
+    case Expr::Op::kAtom:
+    case Expr::Op::kEvery:  // quantifiers are expanded at load: unknown if one were left
+    case Expr::Op::kAny: break;
   }
   if (e.var_kind != VarKind::kLocation) return Tv::kUnknown;
   return (init[e.target] == e.value_code) != e.not_equal ? Tv::kTrue : Tv::kFalse;

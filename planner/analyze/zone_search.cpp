@@ -80,6 +80,8 @@ Tv Eval3(const Expr& e, const Atom& atom) {
     }
     case Expr::Op::kAtom:
       break;
+    case Expr::Op::kEvery:  // quantifiers are expanded at load: unknown if one were left
+    case Expr::Op::kAny: return Tv::kUnknown;
   }
   return atom(e);
 }

@@ -46,6 +46,8 @@ class Words {
       case Expr::Op::kNot: return "it is not the case that " + Group(e.kids[0]);
       case Expr::Op::kImplies: return "if " + Group(e.kids[0]) + ", then " + Group(e.kids[1]);
       case Expr::Op::kIff: return Group(e.kids[0]) + " exactly when " + Group(e.kids[1]);
+      case Expr::Op::kEvery:
+      case Expr::Op::kAny: return Quantified(e);
     }
     return "";
   }
@@ -53,9 +55,59 @@ class Words {
  private:
   // A sub-phrase: parenthesised when it is itself a connective other than a conjunction.
   std::string Group(const Expr& e) const {
-    if (e.op == Expr::Op::kOr || e.op == Expr::Op::kImplies || e.op == Expr::Op::kIff)
+    if (e.op == Expr::Op::kOr || e.op == Expr::Op::kImplies || e.op == Expr::Op::kIff ||
+        e.op == Expr::Op::kEvery || e.op == Expr::Op::kAny)
       return "(" + Of(e) + ")";
     return Of(e);
+  }
+
+  // every(k in robot: B) as written: "for every k in robot (the 3 instances robot1 to robot3),
+  // B" with B's names as written (robot{k}).
+  std::string Quantified(const Expr& e) const {
+    std::string range;
+    std::string first;
+    if (!e.range.empty()) {
+      const TemplateRange* t = d_.Template(e.range);
+      const std::size_t n = t ? t->values.size() : 0;
+      range = e.var + " in " + e.range;
+      if (n == 1) range += " (its one instance " + e.range + t->values[0] + ")";
+      else if (n > 1)
+        range += " (the " + std::to_string(n) + " instances " + e.range + t->values.front() +
+                 " to " + e.range + t->values.back() + ")";
+      else range += " (no instance)";
+      if (n > 0) first = t->values.front();
+    } else {
+      range = e.var + " from " + std::to_string(e.range_lo) + " to " + std::to_string(e.range_hi);
+      if (e.range_lo <= e.range_hi) first = std::to_string(e.range_lo);
+    }
+    env_.emplace_back(e.var, first);
+    std::string body = Group(e.kids[0]);
+    env_.pop_back();
+    return std::string(e.op == Expr::Op::kEvery ? "for every " : "for some ") + range + ", " +
+           body;
+  }
+
+  // An atom of a quantifier's body, its names as written: the variable's kind is read from the
+  // name with the range's first values in the placeholders.
+  std::string WrittenAtom(const Expr& e) const {
+    std::string v = e.var;
+    for (const auto& [name, value] : env_) {
+      const std::string ph = "{" + name + "}";
+      for (std::size_t at = v.find(ph); at != std::string::npos; at = v.find(ph, at + value.size()))
+        v.replace(at, ph.size(), value);
+    }
+    const std::string neg = e.not_equal ? " not " : " ";
+    const bool before = change_ && e.index.kind == IndexKind::kI;
+    const std::string after = before ? " just before" : "";
+    if (d_.AutomatonIndex(v) >= 0)
+      return e.var + (before ? " was" : " is") + neg + e.value + after;
+    if (v.size() > 1 && d_.AutomatonIndex(v.substr(0, v.size() - 1)) >= 0) {
+      const std::string who = e.var.substr(0, e.var.size() - 1);
+      if (v.back() == 'l') return who + (before ? " was" : " is") + neg + e.value + after;
+      if (v.back() == 'u')
+        return who + (e.not_equal ? " is not given " : " is given ") + "the command " + e.value;
+    }
+    return PrintSource(e);
   }
 
   // "temporalAcceptConstraint_Traj_<self>[i]==tempActive": the idiom that orders the two events
@@ -126,7 +178,7 @@ class Words {
                (e.not_equal ? " is not in state " : " ") +
                (e.not_equal ? TemporalStateNames()[e.value_code] : kWords[e.value_code]);
       }
-      case VarKind::kUnresolved: break;
+      case VarKind::kUnresolved: return WrittenAtom(e);
     }
     return PrintSource(e);
   }
@@ -135,7 +187,11 @@ class Words {
   const StatePlan& sp_;
   bool change_;
   int self_;
+  mutable std::vector<std::pair<std::string, std::string>> env_;  // quantifier -> first value
 };
+
+// The tree to put in words: as written when it has quantifiers, else the checked one.
+const Expr& Said(const Condition& c) { return c.written ? *c.written : c.raw; }
 
 std::string Capitalize(std::string s) {
   if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
@@ -143,7 +199,7 @@ std::string Capitalize(std::string s) {
 }
 
 std::string EventWords(const Domain& d, const StatePlan& sp, const Condition& c, int self) {
-  return Words(d, sp, c.raw_info.IsChange(), self).Of(c.raw);
+  return Words(d, sp, c.raw_info.IsChange(), self).Of(Said(c));
 }
 
 // "robot1 takes openDoor1 (from hall to door1)", with the occurrence.
@@ -163,7 +219,8 @@ std::string ActionWords(const Domain& d, const StatePlan& sp, int j, bool with_o
 }
 
 std::string EndWords(const Domain& d, const StatePlan& sp, const OrderEnd& e) {
-  if (e.action < 0) return "the moment " + Words(d, sp, e.condition.raw_info.IsChange()).Of(e.condition.raw);
+  if (e.action < 0)
+    return "the moment " + Words(d, sp, e.condition.raw_info.IsChange()).Of(Said(e.condition));
   if (sp.actions[e.action].occurrence == Occurrence::kEvery)
     return "every time " + ActionWords(d, sp, e.action, false);
   return ActionWords(d, sp, e.action);
@@ -216,7 +273,7 @@ std::string BoundWords(double lower, double upper) {
 }
 
 std::string ConditionWords(const Domain& d, const StatePlan& sp, const Condition& c) {
-  return Words(d, sp, c.raw_info.IsChange()).Of(c.raw);
+  return Words(d, sp, c.raw_info.IsChange()).Of(Said(c));
 }
 
 Json SummarizeStatePlan(const Domain& d, const StatePlan& sp) {
@@ -225,9 +282,34 @@ Json SummarizeStatePlan(const Domain& d, const StatePlan& sp) {
     out.push_back({{"pointer", pointer}, {"text", text}});
   };
 
+  // The instances of a template that all start in one location are said once ("every robot
+  // (robot1 to robot256) is outside"), at the place of the first of them.
+  std::vector<std::string> group(d.automata.size());
+  std::vector<bool> grouped(d.automata.size(), false);
+  for (const auto& t : d.templates) {
+    if (t.values.size() < 2) continue;
+    std::vector<int> members;
+    for (const auto& v : t.values) {
+      const int a = d.AutomatonIndex(t.name + v);
+      if (a < 0 || grouped[a] || sp.initial[a] < 0 ||
+          (!members.empty() && d.automata[a].locations[sp.initial[a]] !=
+                                   d.automata[members[0]].locations[sp.initial[members[0]]])) {
+        members.clear();
+        break;
+      }
+      members.push_back(a);
+    }
+    if (members.empty()) continue;
+    for (int a : members) grouped[a] = true;
+    group[members[0]] = "every " + t.name + " (" + d.automata[members.front()].name + " to " +
+                        d.automata[members.back()].name + ") is " +
+                        d.automata[members[0]].locations[sp.initial[members[0]]];
+  }
   std::vector<std::string> init;
-  for (std::size_t a = 0; a < d.automata.size(); ++a)
-    init.push_back(d.automata[a].name + " is " + d.automata[a].locations[sp.initial[a]]);
+  for (std::size_t a = 0; a < d.automata.size(); ++a) {
+    if (!group[a].empty()) init.push_back(group[a]);
+    else if (!grouped[a]) init.push_back(d.automata[a].name + " is " + d.automata[a].locations[sp.initial[a]]);
+  }
   std::string where = "In the " + d.name + " domain" +
                       (d.description.empty() ? "" : " (" + d.description + ")") + ", initially ";
   add("/initial_state", where + JoinAnd(init) + ".");
@@ -242,13 +324,13 @@ Json SummarizeStatePlan(const Domain& d, const StatePlan& sp) {
 
   if (sp.maintenance.expr.op != Expr::Op::kTrue)
     add(sp.maintenance.pointer,
-        "Until the end, at every moment: " + Words(d, sp, false).Of(sp.maintenance.raw) + ".");
+        "Until the end, at every moment: " + Words(d, sp, false).Of(Said(sp.maintenance)) + ".");
 
   for (const auto& ep : sp.episodes) {
     std::string text = "Episode " + ep.name + " starts the first time " +
                        ConditionWords(d, sp, ep.accepting);
     if (ep.state.expr.op != Expr::Op::kTrue)
-      text += "; while it lasts, " + Words(d, sp, false).Of(ep.state.raw);
+      text += "; while it lasts, " + Words(d, sp, false).Of(Said(ep.state));
     text += "; it lasts " + BoundWords(ep.lower, ep.upper) + ".";
     add("/constraints/episodes/" + PointerToken(ep.name), text);
   }

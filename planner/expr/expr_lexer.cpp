@@ -22,16 +22,19 @@ const char* TokName(TokKind kind) {
     case TokKind::kNot: return "'not'";
     case TokKind::kTrue: return "'true'";
     case TokKind::kFalse: return "'false'";
+    case TokKind::kColon: return "':'";
+    case TokKind::kDotDot: return "'..'";
     case TokKind::kEnd: return "the end of the expression";
   }
   return "a token";
 }
 
-std::optional<ExprError> Lex(std::string_view text, std::vector<Token>& out) {
+std::optional<ExprError> Lex(std::string_view text, std::vector<Token>& out,
+                             std::size_t max_length) {
   out.clear();
-  if (text.size() > kMaxExprLength)
-    return ExprError{kMaxExprLength, "expression longer than " +
-                                         std::to_string(kMaxExprLength) + " characters"};
+  if (text.size() > max_length)
+    return ExprError{max_length, "expression longer than " + std::to_string(max_length) +
+                                     " characters"};
   std::size_t i = 0;
   const std::size_t n = text.size();
   auto starts = [&](std::string_view s) { return text.substr(i, s.size()) == s; };
@@ -42,8 +45,24 @@ std::optional<ExprError> Lex(std::string_view text, std::vector<Token>& out) {
       continue;
     }
     std::size_t start = i;
-    if (std::isalpha(c) || c == '_') {
-      while (i < n && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
+    if (std::isalpha(c) || c == '_' || c == '{') {
+      // A name, with placeholders "{k}" anywhere in it (Parse checks that a quantifier binds k).
+      while (i < n) {
+        const unsigned char d = static_cast<unsigned char>(text[i]);
+        if (std::isalnum(d) || d == '_') {
+          ++i;
+          continue;
+        }
+        if (d != '{') break;
+        std::size_t close = i + 1;
+        while (close < n && (std::isalnum(static_cast<unsigned char>(text[close])) ||
+                             text[close] == '_'))
+          ++close;
+        if (close == i + 1 || std::isdigit(static_cast<unsigned char>(text[i + 1])) ||
+            close >= n || text[close] != '}')
+          return ExprError{i, "a placeholder is '{' a quantifier's variable '}', e.g. 'robot{k}l'"};
+        i = close + 1;
+      }
       std::string word(text.substr(start, i - start));
       TokKind kind = TokKind::kIdent;
       if (word == "not") kind = TokKind::kNot;
@@ -75,6 +94,8 @@ std::optional<ExprError> Lex(std::string_view text, std::vector<Token>& out) {
     else if (c == '(') kind = TokKind::kLParen;
     else if (c == ')') kind = TokKind::kRParen;
     else if (c == '+') kind = TokKind::kPlus;
+    else if (c == ':') kind = TokKind::kColon;
+    else if (starts("..")) kind = TokKind::kDotDot, len = 2;
     else {
       std::string shown = (c >= 0x20 && c < 0x7f) ? "'" + std::string(1, static_cast<char>(c)) + "'"
                                                    : "byte " + std::to_string(c);

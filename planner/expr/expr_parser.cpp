@@ -130,7 +130,10 @@ class Parser {
         if (!inner || !Expect(TokKind::kRParen, "')'")) return std::nullopt;
         return inner;
       }
-      case TokKind::kIdent: return ParseAtom();
+      case TokKind::kIdent:
+        if ((t.text == "every" || t.text == "any") && toks_[pos_ + 1].kind == TokKind::kLParen)
+          return ParseQuantifier(depth);
+        return ParseAtom();
       default:
         Fail(t.offset, "expected a comparison such as 'compl[i]==compOn', 'true', 'false', "
                        "'not' or '(', got " + Describe(t));
@@ -177,6 +180,90 @@ class Parser {
     return false;
   }
 
+  // every(k in robot: BODY), any(k in 1..4: BODY).
+  std::optional<Expr> ParseQuantifier(int depth) {
+    Expr e;
+    const Token& head = Next();
+    e.op = head.text == "every" ? Expr::Op::kEvery : Expr::Op::kAny;
+    e.offset = head.offset;
+    const std::string form = head.text + "(VAR in RANGE: CONDITION)";
+    if (depth + 1 > kMaxExprDepth) {
+      Fail(head.offset, "expression nested too deeply");
+      return std::nullopt;
+    }
+    Next();  // '('
+    const Token& var = Peek();
+    if (var.kind != TokKind::kIdent || var.text.find('{') != std::string::npos) {
+      Fail(var.offset, "expected the variable of " + form + ", got " + Describe(var));
+      return std::nullopt;
+    }
+    if (var.text == "i" || var.text == "every" || var.text == "any" || var.text == "in") {
+      Fail(var.offset, "'" + var.text + "' cannot be a quantifier's variable");
+      return std::nullopt;
+    }
+    for (const auto& b : bound_)
+      if (b == var.text) {
+        Fail(var.offset, "'" + var.text + "' is already bound by a quantifier around this one");
+        return std::nullopt;
+      }
+    Next();
+    e.var = var.text;
+    e.var_offset = var.offset;
+    if (Peek().kind != TokKind::kIdent || Peek().text != "in") {
+      Fail(Peek().offset, "expected 'in' in " + form + ", got " + Describe(Peek()));
+      return std::nullopt;
+    }
+    Next();
+    const Token& range = Peek();
+    e.range_offset = range.offset;
+    if (range.kind == TokKind::kIdent && range.text.find('{') == std::string::npos) {
+      Next();
+      e.range = range.text;
+    } else if (range.kind == TokKind::kInt) {
+      Next();
+      e.range_lo = std::stoi(range.text);
+      if (!Expect(TokKind::kDotDot, "'..' in a range A..B")) return std::nullopt;
+      const Token& hi = Peek();
+      if (hi.kind != TokKind::kInt) {
+        Fail(hi.offset, "expected the integer that ends the range, got " + Describe(hi));
+        return std::nullopt;
+      }
+      Next();
+      e.range_hi = std::stoi(hi.text);
+    } else {
+      Fail(range.offset, "expected a range: a template's name (every(k in robot: ...)) or "
+                         "integers A..B, got " + Describe(range));
+      return std::nullopt;
+    }
+    if (!Expect(TokKind::kColon, "':' after the range")) return std::nullopt;
+    bound_.push_back(e.var);
+    auto body = ParseIff(depth + 1);
+    bound_.pop_back();
+    if (!body || !Expect(TokKind::kRParen, "')' closing the quantifier")) return std::nullopt;
+    e.kids.push_back(std::move(*body));
+    return e;
+  }
+
+  // Every placeholder "{k}" of a name must be bound by a quantifier around it.
+  bool CheckPlaceholders(const Token& t) {
+    for (std::size_t open = t.text.find('{'); open != std::string::npos;
+         open = t.text.find('{', open + 1)) {
+      const std::size_t close = t.text.find('}', open);
+      const std::string name = t.text.substr(open + 1, close - open - 1);
+      bool known = false;
+      for (const auto& b : bound_) known = known || b == name;
+      if (!known) {
+        Fail(t.offset + open, bound_.empty()
+                                  ? "placeholder '{" + name + "}' outside a quantifier (write "
+                                    "every(" + name + " in TEMPLATE: ...) around it)"
+                                  : "placeholder '{" + name + "}' names no quantifier's variable "
+                                    "here");
+        return false;
+      }
+    }
+    return true;
+  }
+
   std::optional<Expr> ParseAtom() {
     Expr e;
     e.op = Expr::Op::kAtom;
@@ -192,6 +279,7 @@ class Parser {
         return std::nullopt;
       }
       Next();
+      if (!CheckPlaceholders(first) || !CheckPlaceholders(v)) return std::nullopt;
       e.value = v.text;
       e.value_offset = v.offset;
       return e;
@@ -211,6 +299,7 @@ class Parser {
       return std::nullopt;
     }
     Next();
+    if (!CheckPlaceholders(first) || !CheckPlaceholders(var)) return std::nullopt;
     e.var = var.text;
     e.var_offset = var.offset;
     if (!ParseIndex(e.index)) return std::nullopt;
@@ -218,6 +307,7 @@ class Parser {
   }
 
   const std::vector<Token>& toks_;
+  std::vector<std::string> bound_;  // the variables of the quantifiers around the current point
   std::size_t pos_ = 0;
   bool failed_ = false;
   ExprError err_;
@@ -225,9 +315,16 @@ class Parser {
 
 }  // namespace
 
-std::optional<Expr> Parse(std::string_view text, ExprError& err) {
+bool HasQuantifier(const Expr& e) {
+  if (e.op == Expr::Op::kEvery || e.op == Expr::Op::kAny) return true;
+  for (const auto& k : e.kids)
+    if (HasQuantifier(k)) return true;
+  return false;
+}
+
+std::optional<Expr> Parse(std::string_view text, ExprError& err, std::size_t max_length) {
   std::vector<Token> toks;
-  if (auto lex_err = Lex(text, toks)) {
+  if (auto lex_err = Lex(text, toks, max_length)) {
     err = *lex_err;
     return std::nullopt;
   }

@@ -19,6 +19,8 @@ std::string PrintMiniZinc(const Expr& e, const VarPrinter& var) {
                                                     : " <-> ";
       return "(" + PrintMiniZinc(e.kids[0], var) + op + PrintMiniZinc(e.kids[1], var) + ")";
     }
+    case Expr::Op::kEvery:
+    case Expr::Op::kAny: break;  // expanded before a tree is checked (quantify.h)
   }
   return "false";
 }
@@ -33,6 +35,8 @@ bool Evaluate(const Expr& e, const std::function<int(const Expr& atom)>& value_o
     case Expr::Op::kOr: return Evaluate(e.kids[0], value_of) || Evaluate(e.kids[1], value_of);
     case Expr::Op::kImplies: return !Evaluate(e.kids[0], value_of) || Evaluate(e.kids[1], value_of);
     case Expr::Op::kIff: return Evaluate(e.kids[0], value_of) == Evaluate(e.kids[1], value_of);
+    case Expr::Op::kEvery:
+    case Expr::Op::kAny: break;  // expanded before a tree is checked (quantify.h)
   }
   return false;
 }
@@ -52,6 +56,14 @@ std::string PrintSource(const Expr& e) {
       return e.var + "[" + idx + "]" + (e.not_equal ? "!=" : "==") + e.value;
     }
     case Expr::Op::kNot: return "not (" + PrintSource(e.kids[0]) + ")";
+    case Expr::Op::kEvery:
+    case Expr::Op::kAny: {
+      const std::string range = !e.range.empty() ? e.range
+                                                 : std::to_string(e.range_lo) + ".." +
+                                                       std::to_string(e.range_hi);
+      return std::string(e.op == Expr::Op::kEvery ? "every(" : "any(") + e.var + " in " + range +
+             ": " + PrintSource(e.kids[0]) + ")";
+    }
     default: {
       const char* op = e.op == Expr::Op::kAnd       ? " /\\ "
                        : e.op == Expr::Op::kOr      ? " \\/ "

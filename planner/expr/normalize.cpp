@@ -199,11 +199,18 @@ Expr Normalize(const Expr& e, const ValueNames& values) {
       return e;
     case Op::kNot:
       return Negate(Normalize(e.kids[0], values));
+    case Op::kEvery:
+    case Op::kAny:  // not expanded (quantify.h): nothing to simplify without the values
+      return e;
     case Op::kAnd:
     case Op::kOr: {
+      // The whole chain at once: one node at a time copied every normalised sub-chain again
+      // (quadratic in the conjuncts of a quantified goal).
+      std::vector<const Expr*> parts;
+      Flatten(e, e.op, parts);
       std::vector<Expr> items;
-      items.push_back(Normalize(e.kids[0], values));
-      items.push_back(Normalize(e.kids[1], values));
+      items.reserve(parts.size());
+      for (const Expr* p : parts) items.push_back(Normalize(*p, values));
       Expr r = Chain(e.op, std::move(items), values);
       if (r.op != Op::kTrue && r.op != Op::kFalse) r.offset = e.offset;
       return r;

@@ -49,6 +49,12 @@ int Domain::AutomatonIndex(const std::string& n) const {
   return -1;
 }
 
+const TemplateRange* Domain::Template(const std::string& n) const {
+  for (const auto& t : templates)
+    if (t.name == n) return &t;
+  return nullptr;
+}
+
 namespace {
 
 // Reads an array of unique identifiers.
@@ -153,8 +159,16 @@ bool ReadContingent(const ObjectReader& r, Transition& t, Diagnostics& diags) {
   return true;
 }
 
+// How guards are read: the longest text (a template's expansion may write longer guards than a
+// user may) and the quantifier budget of the whole domain.
+struct GuardLimits {
+  std::size_t max_length = kMaxExprLength;
+  QuantifierBudget budget;
+  std::unordered_map<std::string, int> automaton_index;  // the domain's automata by name
+};
+
 void ReadTransition(const Json& j, const std::string& p, const Domain& d, int self,
-                    Automaton& a, Diagnostics& diags) {
+                    Automaton& a, GuardLimits& limits, Diagnostics& diags) {
   ObjectReader r(j, p, diags);
   if (!r.valid()) return;
   r.CheckKeys({"from", "to", "guard", "duration", "cost", "controllable", "contingent",
@@ -184,7 +198,7 @@ void ReadTransition(const Json& j, const std::string& p, const Domain& d, int se
     ok = false;
   }
   if (auto g = r.String("guard", false)) t.guard_text = *g;
-  Scope scope{&d, {}, {}};
+  Scope scope{&d, {}, {}, limits.max_length, &limits.budget, &limits.automaton_index};
   ExprInfo info;
   auto guard = ParseChecked(t.guard_text, scope, ExprContext::kGuard, r.Child("guard"), diags,
                             &info);
@@ -286,7 +300,10 @@ void CheckDuplicateTransitions(const Automaton& a, Diagnostics& diags) {
 namespace {
 
 // A document without templates (contract section 2).
-std::optional<Domain> LoadPlainDomain(const Json& j, Diagnostics& diags) {
+// With `x`, the document is x's expansion: the domain keeps its templates, and its guards may be
+// as long as kMaxExpandedGuard (templates.h bounds the expansion's work).
+std::optional<Domain> LoadPlainDomain(const Json& j, Diagnostics& diags,
+                                      const Expansion* x = nullptr) {
   std::size_t errors_before = diags.errors().size();
   ObjectReader r(j, "", diags);
   if (!r.valid()) return std::nullopt;
@@ -363,12 +380,18 @@ std::optional<Domain> LoadPlainDomain(const Json& j, Diagnostics& diags) {
   }
   if (diags.errors().size() > errors_before) return std::nullopt;
   // Pass 2: transitions.
+  GuardLimits limits;
+  limits.automaton_index = AutomatonIndexOf(d);
+  if (x) {
+    d.templates = x->templates;
+    limits.max_length = kMaxExpandedGuard;
+  }
   for (std::size_t i = 0; i < d.automata.size(); ++i) {
     const Json* list = transition_lists[i];
     if (!list) continue;
     for (std::size_t k = 0; k < list->size(); ++k)
       ReadTransition((*list)[k], "/automata/" + std::to_string(i) + "/transitions/" + std::to_string(k),
-                     d, static_cast<int>(i), d.automata[i], diags);
+                     d, static_cast<int>(i), d.automata[i], limits, diags);
     CheckDuplicateTransitions(d.automata[i], diags);
     CheckContingentExits(d.automata[i], diags);
   }
@@ -385,7 +408,7 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags) {
 std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const ExpandOptions& options,
                                  Expansion* expansion) {
   if (options.parameters.empty() && ObviouslyPlain(j)) {
-    if (expansion) *expansion = Expansion{j, {}, false};
+    if (expansion) *expansion = Expansion{j, {}, false, {}};
     return LoadPlainDomain(j, diags);
   }
   auto x = ExpandTemplates(j, diags, options);
@@ -395,7 +418,7 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const Expand
     d = LoadPlainDomain(j, diags);
   } else {
     Diagnostics expanded;
-    d = LoadPlainDomain(x->document, expanded);
+    d = LoadPlainDomain(x->document, expanded, &*x);
     MapDiagnostics(*x, j, expanded, diags);
   }
   if (expansion) *expansion = std::move(*x);

@@ -60,8 +60,12 @@ struct Domain {
   std::string description;
   double time_resolution = 1.0;  // seconds per solver time unit
   std::vector<Automaton> automata;
+  // The templates the document declared (empty for a plain domain): the ranges of the
+  // expression language's quantifiers (every(k in robot: ...), expr.h).
+  std::vector<TemplateRange> templates;
 
   int AutomatonIndex(const std::string& n) const;  // -1 when absent
+  const TemplateRange* Template(const std::string& n) const;  // nullptr when absent
   bool HasContingent() const;
 };
 

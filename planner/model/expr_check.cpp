@@ -1,6 +1,7 @@
 #include "planner/model/expr_check.h"
 
 #include <algorithm>
+#include <set>
 
 namespace ctb {
 
@@ -52,6 +53,16 @@ class Checker {
       : scope_(scope), ctx_(ctx), pointer_(pointer), diags_(diags), info_(info) {}
 
   bool Visit(Expr& e) {
+    if (e.op == Expr::Op::kAtom && !e.binding.empty()) {
+      // An atom a quantifier made: one error per place in the text, not one per value.
+      if (bad_offsets_.count(e.var_offset)) return false;
+      current_ = &e;
+      const std::size_t errors = diags_.errors().size();
+      const bool ok = Atom(e);
+      current_ = nullptr;
+      if (diags_.errors().size() > errors) bad_offsets_.insert(e.var_offset);
+      return ok;
+    }
     if (e.op != Expr::Op::kAtom) {
       bool ok = true;
       for (auto& k : e.kids) ok = Visit(k) && ok;
@@ -62,6 +73,7 @@ class Checker {
 
  private:
   bool Err(std::size_t offset, std::string msg) {
+    if (current_) msg += " (where " + current_->binding + ")";
     diags_.Error(pointer_, std::move(msg), offset);
     return false;
   }
@@ -76,6 +88,12 @@ class Checker {
     for (const auto& n : scope_.episodes) names.push_back(kEpisodeVarPrefix + n);
     for (const auto& n : scope_.temporals) names.push_back(kTemporalVarPrefix + n);
     return names;
+  }
+
+  int AutomatonIndex(const std::string& name) const {
+    if (!scope_.automaton_index) return scope_.domain->AutomatonIndex(name);
+    auto it = scope_.automaton_index->find(name);
+    return it == scope_.automaton_index->end() ? -1 : it->second;
   }
 
   // Resolves e.var into (var_kind, target).
@@ -97,14 +115,14 @@ class Checker {
       e.target = idx;
       return true;
     }
-    int a = d.AutomatonIndex(v);
+    int a = AutomatonIndex(v);
     if (a >= 0) {
       e.var_kind = VarKind::kLocation;
       e.target = a;
       return true;
     }
     if (v.size() > 1) {
-      int base = d.AutomatonIndex(v.substr(0, v.size() - 1));
+      int base = AutomatonIndex(v.substr(0, v.size() - 1));
       if (base >= 0 && (v.back() == 'l' || v.back() == 'u')) {
         e.var_kind = v.back() == 'l' ? VarKind::kLocation : VarKind::kCommand;
         e.target = base;
@@ -195,6 +213,8 @@ class Checker {
   const std::string& pointer_;
   Diagnostics& diags_;
   ExprInfo& info_;
+  const Expr* current_ = nullptr;       // the expanded atom being checked, for messages
+  std::set<std::size_t> bad_offsets_;  // places of expanded atoms already reported
 };
 
 }  // namespace
@@ -222,8 +242,33 @@ std::string NearestName(const std::string& word, const std::vector<std::string>&
   return best;
 }
 
+std::unordered_map<std::string, int> AutomatonIndexOf(const Domain& d) {
+  std::unordered_map<std::string, int> out;
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    out.emplace(d.automata[a].name, static_cast<int>(a));
+  return out;
+}
+
 bool CheckExpr(Expr& e, const Scope& scope, ExprContext ctx, const std::string& pointer,
                Diagnostics& diags, ExprInfo* info) {
+  if (HasQuantifier(e)) {
+    QuantifierBudget own;
+    const Domain* d = scope.domain;
+    TemplateValues values = [d](const std::string& name) -> const std::vector<std::string>* {
+      const TemplateRange* t = d ? d->Template(name) : nullptr;
+      return t ? &t->values : nullptr;
+    };
+    TemplateNames names = [d]() {
+      std::vector<std::string> out;
+      if (d)
+        for (const auto& t : d->templates) out.push_back(t.name);
+      return out;
+    };
+    if (auto err = ExpandQuantifiers(e, values, names, scope.budget ? *scope.budget : own)) {
+      diags.Error(pointer, err->message, err->offset);
+      return false;
+    }
+  }
   ExprInfo local;
   Checker c(scope, ctx, pointer, diags, info ? *info : local);
   return c.Visit(e);
@@ -232,7 +277,7 @@ bool CheckExpr(Expr& e, const Scope& scope, ExprContext ctx, const std::string& 
 std::optional<Expr> ParseChecked(const std::string& text, const Scope& scope, ExprContext ctx,
                                  const std::string& pointer, Diagnostics& diags, ExprInfo* info) {
   ExprError err;
-  auto e = Parse(text, err);
+  auto e = Parse(text, err, scope.max_length);
   if (!e) {
     diags.Error(pointer, err.message, err.offset);
     return std::nullopt;

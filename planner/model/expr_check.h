@@ -4,12 +4,14 @@
 
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "planner/model/domain.h"
 #include "planner/expr/expr.h"
 #include "planner/expr/expr_info.h"
 #include "planner/expr/normalize.h"
+#include "planner/expr/quantify.h"
 
 namespace ctb {
 
@@ -18,15 +20,30 @@ struct Scope {
   const Domain* domain = nullptr;
   std::vector<std::string> episodes;   // epAcceptAutomatonTraj_<name>
   std::vector<std::string> temporals;  // temporalAcceptConstraint_Traj_<name>
+  // The longest text ParseChecked accepts (guards a template expanded may be longer than what
+  // a user may write; their expansion has its own bound, templates.h).
+  std::size_t max_length = kMaxExprLength;
+  // The node budget the quantifiers of the whole document share (quantify.h); when null, each
+  // expression has a budget of its own.
+  QuantifierBudget* budget = nullptr;
+  // The domain's automata by name (AutomatonIndex is a linear scan: with 1,000 automata, checking
+  // their guards took most of a domain's loading); optional, must match `domain` when given.
+  const std::unordered_map<std::string, int>* automaton_index = nullptr;
 };
+
+// The automata of d by name, for Scope::automaton_index.
+std::unordered_map<std::string, int> AutomatonIndexOf(const Domain& d);
 
 enum class ExprContext {
   kGuard,      // a transition guard: only [i], only domain variables
   kCondition,  // a state-plan condition: [i], [i+1], fixed stages (with a warning)
 };
 
-// Checks e in place (filling var_kind, target, value_code). Errors and warnings go to diags at
-// `pointer` with the character offset of the offending token. Returns true when e is valid.
+// Checks e in place (filling var_kind, target, value_code), after expanding its quantifiers over
+// the domain's templates (Domain::templates) and integer ranges. Errors and warnings go to diags
+// at `pointer` with the character offset of the offending token (in a quantifier's body, the
+// message names the variables' values; one error per place in the text). Returns true when e is
+// valid; e then holds no quantifier.
 bool CheckExpr(Expr& e, const Scope& scope, ExprContext ctx, const std::string& pointer,
                Diagnostics& diags, ExprInfo* info = nullptr);
 

@@ -37,8 +37,15 @@ std::optional<Condition> ReadCondition(const ObjectReader& r, const std::string&
   Condition c;
   c.text = *text;
   c.pointer = r.Child(key);
-  auto e = ParseChecked(c.text, scope, ExprContext::kCondition, c.pointer, diags, &c.raw_info);
-  if (!e) return std::nullopt;
+  ExprError err;
+  auto e = Parse(c.text, err, scope.max_length);
+  if (!e) {
+    diags.Error(c.pointer, err.message, err.offset);
+    return std::nullopt;
+  }
+  if (HasQuantifier(*e)) c.written = *e;
+  if (!CheckExpr(*e, scope, ExprContext::kCondition, c.pointer, diags, &c.raw_info))
+    return std::nullopt;
   c.raw = std::move(*e);
   c.expr = Normalize(c.raw, names);
   c.info = InfoOf(c.expr);
@@ -136,7 +143,10 @@ std::optional<StatePlan> LoadStatePlan(const Json& j, const Domain& d, Diagnosti
   }
 
   // Names of the accepting automata, for the scope of every condition.
-  Scope scope{&d, {}, {}};
+  // Every condition's quantifiers share one node budget (quantify.h).
+  QuantifierBudget budget;
+  const auto automaton_index = AutomatonIndexOf(d);
+  Scope scope{&d, {}, {}, kMaxExprLength, &budget, &automaton_index};
   std::vector<std::string> order_names;
   const Json* constraints = r.Get("constraints");
   std::optional<ObjectReader> cr;

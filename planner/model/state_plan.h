@@ -25,6 +25,9 @@ struct Condition {
   Expr raw;
   ExprInfo raw_info;
   std::string pointer;
+  // The tree as written (unchecked), when the text has quantifiers (every/any, expr.h): the
+  // restatement says them as written; raw and expr hold their expansion.
+  std::optional<Expr> written;
 };
 
 struct Episode {

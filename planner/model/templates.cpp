@@ -343,6 +343,8 @@ class Expander {
         std::size_t f = part->find_first_not_of(' ');
         joined += (joined.empty() ? "" : every ? " /\\ " : " \\/ ") + std::string("(") +
                   (f == std::string::npos ? "" : part->substr(f)) + ")";
+        if (!Spend(part->size(), joined.size(), err))
+          return std::nullopt;
       }
       if (values->empty()) joined = every ? "true" : "false";
       out += values->size() > 1 ? "(" + joined + ")" : joined;
@@ -351,6 +353,23 @@ class Expander {
     auto tail = Substitute(s.substr(pos), env, err);
     if (!tail) return std::nullopt;
     return out + *tail;
+  }
+
+  // Counts `chars` more of expanded guards; false with err when this guard (`length` so far) or
+  // all of them together grew beyond their bounds.
+  bool Spend(std::size_t chars, std::size_t length, std::string& err) {
+    guard_chars_ += chars;
+    if (length > kMaxExpandedGuard) {
+      err = "any/every expands this guard to more than " + std::to_string(kMaxExpandedGuard) +
+            " characters";
+      return false;
+    }
+    if (guard_chars_ > kMaxExpandedGuards) {
+      err = "any/every expand the guards to more than " + std::to_string(kMaxExpandedGuards) +
+            " characters in all";
+      return false;
+    }
+    return true;
   }
 
   // Expands one list ("locations", "commands" or "transitions") into out.
@@ -496,6 +515,9 @@ class Expander {
       }
       instances_[*name] = *values;
       declared[i] = Declared{*name, *param, *values};
+      TemplateRange range{*name, {}};
+      for (const Value& v : *values) range.values.push_back(v.Text());
+      x_.templates.push_back(std::move(range));
     }
     // Pass 2: the automata, in the document's order.
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -532,6 +554,7 @@ class Expander {
   Env params_;
   std::map<std::string, std::vector<Value>> instances_;
   long items_ = 0;
+  std::size_t guard_chars_ = 0;  // characters of guards any/every wrote, all guards together
 };
 
 // No "for" or "template" item and no brace in any string below `j`.

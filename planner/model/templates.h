@@ -22,6 +22,7 @@
 // ("in instance 'robot3' (k=3)"). Never throws.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <optional>
 #include <string>
@@ -32,6 +33,13 @@
 
 namespace ctb {
 
+// The longest guard any(...)/every(...) may expand to (a guard as written has at most
+// kMaxExprLength characters; "any robot opens the door" over 1,000 robots needs about 30,000), and
+// the characters all the guards of one document may expand to: the expansion's work is bounded
+// by these, whatever the nesting of its quantifiers.
+constexpr std::size_t kMaxExpandedGuard = 1 << 16;
+constexpr std::size_t kMaxExpandedGuards = 1 << 24;
+
 // Where a part of the expanded document came from.
 struct SourceMapEntry {
   std::string expanded;  // pointer into the expanded document (an automaton, an item)
@@ -39,10 +47,18 @@ struct SourceMapEntry {
   std::string instance;  // "instance 'robot3' (k=3)", "p=2", or "" for a plain part
 };
 
+// A template of a document: its instances are the automata named name + value, for each value
+// ("1", "2", ... or a name fragment), in order.
+struct TemplateRange {
+  std::string name;
+  std::vector<std::string> values;
+};
+
 struct Expansion {
   Json document;                       // the expanded document, plain automata only
   std::vector<SourceMapEntry> source;  // longest matching prefix wins
   bool had_templates = false;          // the document used any template feature
+  std::vector<TemplateRange> templates;  // every template declared, in the document's order
 };
 
 struct ExpandOptions {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <queue>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "planner/search/expand.h"
 #include "planner/search/history_nodes.h"
@@ -169,6 +170,8 @@ class Search {
 
   // Preferred successors first (the helpful transitions together, each alone at its earliest
   // time and at the monitors' target times, waiting); the others on the node's second turn.
+  // When the helpful transitions fire together, each alone waits for the second turn too: with
+  // a team of hundreds, generating every single one at every node was most of the search.
   void Expand(int idx, bool preferred) {
     const Node n = pool_[idx];  // a copy: pool_ grows below
     const StageView v = ex_.View(n);
@@ -187,6 +190,9 @@ class Search {
         if (t > c.earliest && t <= c.latest) Add(idx, ex_.Apply(n, v, lead, t, c.commands), rank);
     };
     if (!preferred) {
+      if (deferred_.erase(idx))
+        for (const Candidate& c : cands)
+          if (is_helpful(c)) singles(c, kHelpful);
       for (const Candidate& c : cands)
         if (!is_helpful(c)) singles(c, kOther);
       return;
@@ -194,21 +200,48 @@ class Search {
     std::vector<const Candidate*> mine;
     for (const Candidate& c : cands)
       if (is_helpful(c)) mine.push_back(&c);
-    if (mine.size() > 1) Add(idx, Macro(n, v, mine), kMacro);
-    for (const Candidate* c : mine) singles(*c, kHelpful);
+    std::optional<Node> macro;
+    if (mine.size() > 1) macro = Macro(n, v, mine);
+    if (macro) {
+      Add(idx, std::move(macro), kMacro);
+      deferred_.insert(idx);
+    } else {
+      for (const Candidate* c : mine) singles(*c, kHelpful);
+    }
     const long due = ex_.DueTime(n, v);
     if (due < search::kInfinity) Add(idx, ex_.Apply(n, v, {}, due), kWait);
   }
 
   // Every helpful transition that can fire at the earliest time any of them can, one per
   // automaton, lower-indexed automata first: one that would break the guard of one already in
-  // (a guard may read another automaton's command) or whose own guard fails is left out.
+  // (a guard may read another automaton's command) or whose own guard fails is left out. When
+  // all of them (one per automaton) fire together, that is the macro at once: a team of 1,000
+  // robots otherwise paid 1,000 applications of growing sets (quadratic) at every node.
   std::optional<Node> Macro(const Node& n, const StageView& v,
                             const std::vector<const Candidate*>& mine) {
     long at = search::kInfinity;
     for (const Candidate* c : mine) at = std::min(at, c->earliest);
     std::vector<std::pair<int, int>> chosen, given;
     std::vector<char> taken(d_.automata.size(), 0);
+    {
+      int count = 0;
+      for (const Candidate* c : mine) {
+        if (c->earliest > at || c->latest < at) continue;
+        bool free = !taken[c->automaton];
+        for (auto [a, cmd] : c->commands) free = free && !taken[a];
+        if (!free) continue;
+        chosen.emplace_back(c->automaton, c->transition);
+        given.insert(given.end(), c->commands.begin(), c->commands.end());
+        taken[c->automaton] = 1;
+        for (auto [a, cmd] : c->commands) taken[a] = 1;
+        ++count;
+      }
+      if (count >= 2)
+        if (auto all = ex_.Apply(n, v, chosen, at, given)) return all;
+      chosen.clear();
+      given.clear();
+      std::fill(taken.begin(), taken.end(), 0);
+    }
     int picked = 0;
     for (const Candidate* c : mine) {
       if (c->earliest > at || c->latest < at) continue;
@@ -302,6 +335,7 @@ class Search {
   std::vector<Node> pool_;
   std::unordered_map<int, std::vector<std::pair<int, int>>> helpful_;
   std::unordered_map<int, double> h_;
+  std::unordered_set<int> deferred_;  // nodes whose helpful singles wait for the second turn
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open_;
   std::unordered_map<std::vector<long>, Value, KeyHash> seen_;
   std::optional<Value> best_;

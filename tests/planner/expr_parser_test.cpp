@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "planner/expr/expr.h"
+#include "planner/expr/expr_print.h"
 
 namespace ctb {
 namespace {
@@ -135,6 +136,81 @@ std::vector<Bad> Hostile() {
   v.push_back({nots + "true", 260, "nested too deeply"});
   v.push_back({std::string(kMaxExprLength + 1, 'a'), kMaxExprLength, "longer than"});
   return v;
+}
+
+TEST(Parse, QuantifiersParseAndPrintBack) {
+  for (const std::string text :
+       {"every(k in robot: robot{k}l[i+1]==rescuedPerson{k})",
+        "any(k in 1..4: robot{k}[i]!=outside)",
+        "every(p in 1..2: any(k in robot: robot{k}l[i+1]==rescuedPerson{p}))",
+        "(door1l[i+1]==open /\\ every(k in robot: not (robot{k}u[i]==goToDoor1)))"}) {
+    ExprError err;
+    auto e = Parse(text, err);
+    ASSERT_TRUE(e) << text << ": " << err.message;
+    EXPECT_TRUE(HasQuantifier(*e));
+    std::string printed = PrintSource(*e);
+    auto again = Parse(printed, err);
+    ASSERT_TRUE(again) << printed << ": " << err.message;
+    EXPECT_EQ(PrintSource(*again), printed);
+  }
+  ExprError err;
+  auto e = Parse("every(k in robot: robot{k}l[i+1]==rescuedPerson{k})", err);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->op, Expr::Op::kEvery);
+  EXPECT_EQ(e->var, "k");
+  EXPECT_EQ(e->range, "robot");
+  EXPECT_EQ(e->range_offset, 11u);
+  ASSERT_EQ(e->kids.size(), 1u);
+  EXPECT_EQ(e->kids[0].var, "robot{k}l");
+  EXPECT_EQ(e->kids[0].value, "rescuedPerson{k}");
+  auto r = Parse("any(j in 2..5: x{j}[i]==a)", err);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->op, Expr::Op::kAny);
+  EXPECT_TRUE(r->range.empty());
+  EXPECT_EQ(r->range_lo, 2);
+  EXPECT_EQ(r->range_hi, 5);
+}
+
+TEST(Parse, EveryAndAnyStayUsableNames) {
+  ExprError err;
+  auto e = Parse("every[i]==any /\\ any[i+1]==in", err);
+  ASSERT_TRUE(e) << err.message;
+  EXPECT_FALSE(HasQuantifier(*e));
+  EXPECT_EQ(e->kids[0].var, "every");
+  EXPECT_EQ(e->kids[1].value, "in");
+}
+
+TEST(Parse, RejectsMalformedQuantifiersWithOffset) {
+  const std::vector<Bad> cases = {
+      {"robot{k}l[i]==outside", 5, "placeholder '{k}' outside a quantifier"},
+      {"every(k in robot: robot{j}l[i]==outside)", 23, "'{j}' names no quantifier's variable"},
+      {"every(k in robot: every(k in robot: true))", 24, "already bound"},
+      {"every(i in robot: true)", 6, "'i' cannot be a quantifier's variable"},
+      {"every(k robot: true)", 8, "expected 'in'"},
+      {"every(k in robot true)", 17, "expected ':' after the range"},
+      {"every(k in 1.. : true)", 15, "expected the integer that ends the range"},
+      {"every(k in 1: true)", 12, "expected '..'"},
+      {"every(k in robot{k}: true)", 11, "expected a range"},
+      {"every(k in robot: true", 22, "')' closing the quantifier"},
+      {"every({k} in robot: true)", 6, "expected the variable"},
+      {"every(k in robot: robot{k l[i]==a)", 23, "a placeholder is '{'"},
+      {"every(k in robot: robot{}l[i]==a)", 23, "a placeholder is '{'"},
+      {"every(k in robot: robot{1}l[i]==a)", 23, "a placeholder is '{'"},
+  };
+  for (const auto& c : cases) {
+    ExprError err;
+    EXPECT_FALSE(Parse(c.text, err)) << c.text;
+    EXPECT_EQ(err.offset, c.offset) << c.text << ": " << err.message;
+    EXPECT_NE(err.message.find(c.message_part), std::string::npos)
+        << c.text << ": got '" << err.message << "'";
+  }
+  // Deep nesting of quantifiers is bounded like parentheses.
+  std::string deep;
+  for (int k = 0; k < 100; ++k) deep += "every(v" + std::to_string(k) + " in 1..1: ";
+  deep += "true" + std::string(100, ')');
+  ExprError err;
+  EXPECT_FALSE(Parse(deep, err));
+  EXPECT_NE(err.message.find("nested too deeply"), std::string::npos) << err.message;
 }
 
 TEST(Parse, RejectsMalformedAndHostileStringsWithOffset) {

@@ -134,5 +134,33 @@ TEST(Summary, MaintenanceSharedEventsAndConnectives) {
             "and proj is given the command projTurnOn.");
 }
 
+TEST(Summary, QuantifiersAreSaidAsWrittenAndTeamsOnce) {
+  Diagnostics diags;
+  auto t = ReadJsonFile(testing::ConfigDir() + "/templates/search_rescue_team.json", diags);
+  ASSERT_TRUE(t) << testing::AllErrors(diags);
+  ExpandOptions o;
+  o.parameters["N"] = 3;
+  auto d = LoadDomain(*t, diags, o);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  Json j = testing::MustParse(R"J({"initial_state": {"robot1": "outside", "robot2": "outside",
+      "robot3": "outside", "door1": "closed", "door2": "closed", "door3": "open"},
+      "end_state": {"goal_constraint": "every(k in robot: robot{k}l[i+1]==rescuedPerson{k})",
+                    "maintenance_constraint": "every(p in 1..2: any(k in robot: robot{k}u[i]!=goToPerson{p}))"}})J");
+  auto sp = LoadStatePlan(j, *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  Json s = SummarizeStatePlan(*d, *sp);
+  EXPECT_NE(TextAt(s, "/initial_state").find("initially every robot (robot1 to robot3) is outside, "
+                                             "every door (door1 to door2) is closed and door3 is "
+                                             "open."),
+            std::string::npos)
+      << TextAt(s, "/initial_state");
+  EXPECT_EQ(TextAt(s, "/end_state/goal_constraint"),
+            "At the end, for every k in robot (the 3 instances robot1 to robot3), robot{k} is "
+            "rescuedPerson{k}.");
+  EXPECT_EQ(TextAt(s, "/end_state/maintenance_constraint"),
+            "Until the end, at every moment: for every p from 1 to 2, (for some k in robot (the 3 "
+            "instances robot1 to robot3), robot{k} is not given the command goToPerson{p}).");
+}
+
 }  // namespace
 }  // namespace ctb

@@ -172,6 +172,38 @@ TEST(Templates, ExpansionErrorsAreLocated) {
   }
 }
 
+// A door any of 1,000 robots opens: its guard expands to about 30,000 characters, more than a
+// guard as written may have (kMaxExprLength), and loads; the domain keeps its templates.
+TEST(Templates, ALongExpandedGuardLoadsAndTheTemplatesAreKept) {
+  Json j = MustParse(R"J({"name": "crowd", "parameters": {"N": 1000}, "automata": [
+      {"template": "robot", "parameter": "k", "instances": "1..N",
+       "locations": ["outside", "atDoor"], "commands": ["go"],
+       "transitions": [{"from": "outside", "to": "atDoor", "guard": "{self}u[i]==go"}]},
+      {"name": "door", "locations": ["closed", "open"],
+       "transitions": [{"from": "closed", "to": "open",
+                        "guard": "any(k in robot: robot{k}l[i]==atDoor)"}]}]})J");
+  Diagnostics d;
+  auto dom = LoadDomain(j, d);
+  ASSERT_TRUE(dom) << AllErrors(d);
+  ASSERT_EQ(dom->automata.size(), 1001u);
+  EXPECT_GT(dom->automata[1000].transitions[0].guard_text.size(), kMaxExprLength);
+  ASSERT_EQ(dom->templates.size(), 1u);
+  EXPECT_EQ(dom->templates[0].name, "robot");
+  EXPECT_EQ(dom->templates[0].values.size(), 1000u);
+  EXPECT_EQ(dom->templates[0].values.back(), "1000");
+}
+
+// A short guard whose any/every would write a billion copies stops at the expansion's bound.
+TEST(Templates, GuardExpansionIsBoundedByWork) {
+  Json j = Team();
+  j["automata"][1]["transitions"][1]["guard"] =
+      "every(a in 1..1000: every(b in 1..1000: every(c in 1..1000: hangarl[i]==shut)))";
+  Diagnostics d;
+  EXPECT_FALSE(LoadDomain(j, d));
+  EXPECT_TRUE(HasError(d, "/automata/1/transitions/1/guard", "more than 65536 characters"))
+      << AllErrors(d);
+}
+
 TEST(Templates, TheShippedTemplateWithTwoRobotsIsTheShippedDomain) {
   Diagnostics d;
   auto t = ReadJsonFile(testing::ConfigDir() + "/templates/search_rescue_team.json", d);
