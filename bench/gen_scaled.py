@@ -3,12 +3,22 @@
   presentation_xN.json + presentation_xN_plan.json  (thesis Table 5.1: N copies of each automaton,
       each copy with the thesis' test prompt 1 constraints, chain-of-thought version)
   search_rescue_rN.json + search_rescue_rN_plan.json (N robots, N persons: robot k rescues person k)
+
+For teams in the hundreds (bench/teams.py) it also writes search_rescue as a template
+(config/templates/search_rescue_team.json) with N robots, and state plans that say their goal once
+with a quantifier (docs/formats.md, "Quantifiers"):
+  rescue_team(n, persons="own")  robot k's template lists only its own person k (the coupled
+      domain's other persons are dead ends for the goal "robot k rescues person k": a rescued robot
+      never moves again), so the domain grows linearly with the team;
+  rescue_team(n, persons=P)      the thesis' persons 1..P, every robot can reach each of them.
 """
+import copy
 import json
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tools"))
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+sys.path.insert(0, os.path.join(ROOT, "tools"))
 import gen_domains  # noqa: E402
 
 
@@ -42,6 +52,61 @@ def rescue_plan(n):
     init.update({"door1": "closed", "door2": "closed", "door3": "open"})
     goal = " /\\ ".join(f"robot{r}[i+1]==rescuedPerson{r}" for r in range(1, n + 1))
     return {"initial_state": init, "end_state": {"maintenance_constraint": "true", "goal_constraint": goal}}
+
+
+def rescue_team(n, persons="own"):
+    """search_rescue_team.json with N = n robots; persons "own" (robot k: person k) or a count P."""
+    dom = json.load(open(os.path.join(ROOT, "config", "templates", "search_rescue_team.json")))
+    dom["name"] = f"search_rescue_team_{n}" + ("" if persons == "own" else f"_p{persons}")
+    dom["parameters"] = {"N": n}
+    robot = next(a for a in dom["automata"] if a.get("template") == "robot")
+
+    def persons_of(items):
+        out = []
+        for it in items:
+            if isinstance(it, dict) and it.get("for") == "p":
+                if persons == "own":  # the item once, for person k
+                    each = it["each"] if isinstance(it["each"], list) else [it["each"]]
+                    out += json.loads(json.dumps(each).replace("{p}", "{k}"))
+                else:
+                    it = copy.deepcopy(it)
+                    it["in"] = f"1..{persons}"
+                    out.append(it)
+            else:
+                out.append(it)
+        return out
+
+    for key in ("locations", "commands", "transitions"):
+        robot[key] = persons_of(robot[key])
+    if persons == "own":
+        dom["description"] = ("{N} ground robots rescue {N} persons behind doors, robot k person k "
+                              "(thesis 1.2.3, 5.3)")
+    else:
+        dom["description"] = "{N} ground robots, %d persons behind doors (thesis 1.2.3, 5.3)" % persons
+    return dom
+
+
+def team_initial(n):
+    init = {f"robot{r}": "outside" for r in range(1, n + 1)}
+    init.update({"door1": "closed", "door2": "closed", "door3": "open"})
+    return init
+
+
+def rescue_team_plan(n, written_out=False):
+    """Robot k rescues person k, said once (or, written_out, one conjunct per robot)."""
+    goal = ("every(k in robot: robot{k}l[i+1]==rescuedPerson{k})" if not written_out else
+            " /\\ ".join(f"robot{r}l[i+1]==rescuedPerson{r}" for r in range(1, n + 1)))
+    return {"initial_state": team_initial(n),
+            "end_state": {"maintenance_constraint": "true", "goal_constraint": goal},
+            "objective": "makespan"}
+
+
+def some_robot_each_person_plan(n, persons):
+    """Some robot at each of the persons 1..P (the other robots may stay outside)."""
+    goal = f"every(p in 1..{persons}: any(k in robot: robot{{k}}l[i+1]==rescuedPerson{{p}}))"
+    return {"initial_state": team_initial(n),
+            "end_state": {"maintenance_constraint": "true", "goal_constraint": goal},
+            "objective": "makespan"}
 
 
 def main(out):

@@ -74,7 +74,8 @@ def run(binary, label, domain, plan, limit_ms, first_plan_ms=None):
     row = {"problem": label, "peak_mb": round(int(mem) / 1024, 1) if mem.isdigit() else None,
            "process_ms": wall_ms}
     if p.returncode != 0:
-        row.update(status="error", error=p.stderr.strip()[-300:])
+        err = p.stderr.strip()  # the head names the problem, the tail how the run ended
+        row.update(status="error", error=err if len(err) <= 600 else err[:300] + " ... " + err[-300:])
         return row
     t = json.loads(p.stdout)
     s = t["stats"]

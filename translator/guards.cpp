@@ -86,7 +86,9 @@ std::set<std::string> Names(const Json& plan, const char* group) {
 }
 
 // The goal's conjuncts as printed source; empty when there is no goal or it does not parse.
-std::vector<std::string> GoalConjuncts(const Json& plan) {
+// `quantified` (when given) is set when the goal holds a quantifier: one every(...) may say what
+// many conjuncts said, so counts do not compare.
+std::vector<std::string> GoalConjuncts(const Json& plan, bool* quantified = nullptr) {
   std::vector<std::string> out;
   if (!plan.contains("end_state") || !plan["end_state"].is_object()) return out;
   const Json& e = plan["end_state"];
@@ -94,6 +96,7 @@ std::vector<std::string> GoalConjuncts(const Json& plan) {
   ExprError err;
   auto expr = Parse(e["goal_constraint"].get<std::string>(), err);
   if (!expr) return out;
+  if (quantified && HasQuantifier(*expr)) *quantified = true;
   std::vector<const Expr*> parts;
   Flatten(*expr, Expr::Op::kAnd, parts);
   for (const Expr* p : parts)
@@ -120,8 +123,9 @@ std::vector<Diagnostic> Dropped(const Json& before, const Json& after, bool goal
                        missing + "); keep every constraint the command states"});
   }
   if (goal_flagged) return out;
-  auto gb = GoalConjuncts(before), ga = GoalConjuncts(after);
-  if (!gb.empty() && ga.size() < gb.size()) {
+  bool quantified = false;
+  auto gb = GoalConjuncts(before, &quantified), ga = GoalConjuncts(after, &quantified);
+  if (!quantified && !gb.empty() && ga.size() < gb.size()) {
     std::set<std::string> kept(ga.begin(), ga.end());
     std::string missing;
     for (const auto& g : gb)

@@ -1,6 +1,7 @@
 #include "translator/pipeline.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +63,75 @@ std::vector<Json> ExamplePairs(const std::string& path) {
   return out;
 }
 
+// Per automaton: the index of the first instance of its template when it is the same automaton
+// up to its name (locations, commands, and transitions with the instance's name in its guards);
+// -1 otherwise (and for the first instance itself).
+std::vector<int> SameAsFirstInstance(const Domain& d) {
+  std::vector<int> out(d.automata.size(), -1);
+  // The guard with the automaton's own variables (from, fromL, fromU as whole names) renamed.
+  auto rename = [](const std::string& s, const std::string& from, const std::string& to) {
+    std::string out;
+    auto name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (std::size_t k = 0; k < s.size();) {
+      if (!name_char(s[k])) {
+        out += s[k++];
+        continue;
+      }
+      std::size_t e = k;
+      while (e < s.size() && name_char(s[e])) ++e;
+      const std::string word = s.substr(k, e - k);
+      if (word == from || word == from + "l" || word == from + "u") out += to + word.substr(from.size());
+      else out += word;
+      k = e;
+    }
+    return out;
+  };
+  for (const auto& t : d.templates) {
+    int first = -1;
+    for (const auto& v : t.values) {
+      const int a = d.AutomatonIndex(t.name + v);
+      if (a < 0) break;
+      if (first < 0) {
+        first = a;
+        continue;
+      }
+      const Automaton& x = d.automata[first];
+      const Automaton& y = d.automata[a];
+      bool same = x.locations == y.locations && x.commands == y.commands &&
+                  x.transitions.size() == y.transitions.size();
+      for (std::size_t k = 0; same && k < x.transitions.size(); ++k) {
+        const Transition& s = x.transitions[k];
+        const Transition& u = y.transitions[k];
+        same = s.from == u.from && s.to == u.to && s.duration.lo == u.duration.lo &&
+               s.duration.hi == u.duration.hi &&
+               rename(s.guard_text, x.name, y.name) == u.guard_text;
+      }
+      if (same) out[a] = first;
+    }
+  }
+  return out;
+}
+
+// What the expression language lets a state plan say of a team (expr.h), from
+// prompts_dir/teams.txt with this domain's templates as the examples; "" when the file is missing.
+std::string QuantifierNote(const Domain& d, const std::string& prompts_dir) {
+  auto text = ReadPromptFile(prompts_dir + "/teams.txt");
+  if (!text) return "";
+  std::string teams;
+  for (const auto& t : d.templates) {
+    teams += (teams.empty() ? "" : " ") + t.name + " = ";
+    if (t.values.empty()) teams += "(none)";
+    else if (t.values.size() <= 3)
+      for (std::size_t k = 0; k < t.values.size(); ++k) teams += (k ? ", " : "") + t.name + t.values[k];
+    else teams += t.name + t.values.front() + " .. " + t.name + t.values.back();
+    teams += " (" + std::to_string(t.values.size()) + ");";
+  }
+  const auto& t = d.templates.front();
+  return FillPrompt(*text, {{"teams", teams},
+                            {"template", t.name},
+                            {"first", t.name + (t.values.empty() ? "1" : t.values.front())}});
+}
+
 }  // namespace
 
 std::string PromptExamples(const Domain& d, const std::string& prompts_dir, Prompting prompting) {
@@ -97,10 +167,32 @@ std::string PromptExamples(const Domain& d, const std::string& prompts_dir, Prom
          "\" described above.\n\n" + examples;
 }
 
-std::string DescribeDomain(const Domain& d) {
+std::string DescribeDomain(const Domain& d, const std::string& prompts_dir) {
   std::string out = "Action model \"" + d.name + "\"" +
                     (d.description.empty() ? "" : ": " + d.description) + ".\nAutomata:\n";
-  for (const auto& a : d.automata) {
+  // Runs of at least kMinCompactRun instances the same as their template's first are said in one
+  // line (a team of hundreds would fill the prompt); a smaller team is described in full.
+  constexpr std::size_t kMinCompactRun = 8;
+  std::vector<int> same = SameAsFirstInstance(d);
+  for (std::size_t i = 0; i < same.size();) {
+    std::size_t e = i + 1;
+    while (e < same.size() && same[i] >= 0 && same[e] == same[i]) ++e;
+    if (same[i] >= 0 && e - i < kMinCompactRun) std::fill(same.begin() + i, same.begin() + e, -1);
+    i = e;
+  }
+  for (std::size_t i = 0; i < d.automata.size(); ++i) {
+    const Automaton& a = d.automata[i];
+    if (same[i] >= 0) {
+      // Instances equal to their template's first, up to their name: a run of them said once.
+      if (i + 1 < d.automata.size() && same[i + 1] == same[i]) continue;
+      std::size_t first = i;
+      while (first > 0 && same[first - 1] == same[i]) --first;
+      out += "- " + d.automata[first].name + (first == i ? "" : " .. " + a.name) +
+             ": the same as " + d.automata[same[i]].name + ", each with its own variables (" +
+             d.automata[first].name + "l" + (a.commands.empty() ? "" : ", " + d.automata[first].name + "u") +
+             ", ...)\n";
+      continue;
+    }
     out += "- " + a.name + " (location variable " + a.name + "l";
     if (!a.commands.empty()) out += ", command variable " + a.name + "u";
     out += "): locations";
@@ -121,6 +213,8 @@ std::string DescribeDomain(const Domain& d) {
       out += "\n";
     }
   }
+  if (!d.templates.empty())
+    out += QuantifierNote(d, prompts_dir.empty() ? DefaultPromptsDir() : prompts_dir);
   return out;
 }
 
@@ -231,7 +325,7 @@ std::variant<TranslateResult, Error> Translate(const Domain& d, const std::strin
   TranslateResult result;
   std::vector<ChatMessage> msgs = o.history;
   if (msgs.empty())
-    msgs.push_back({"system", FillPrompt(*system, {{"domain", DescribeDomain(d)}, {"examples", examples}})});
+    msgs.push_back({"system", FillPrompt(*system, {{"domain", DescribeDomain(d, dir)}, {"examples", examples}})});
   const Json json_format = ResponseFormatMember(o.response_format, d);
   auto ask = [&](bool want_json) -> std::variant<ChatResponse, Error> {
     ChatRequest req;

@@ -50,8 +50,11 @@ struct TranslateResult {
 
 std::string DefaultPromptsDir();
 
-// The compact description of a domain given to the LLM, generated from its JSON.
-std::string DescribeDomain(const Domain& d);
+// The compact description of a domain given to the LLM, generated from its JSON. A domain
+// written with templates ends with its teams and the quantifiers a condition may use over them
+// (prompts_dir/teams.txt; the default prompts directory when empty); eight or more consecutive
+// instances the same as their template's first are said in one line.
+std::string DescribeDomain(const Domain& d, const std::string& prompts_dir = "");
 
 // The in-context examples of the prompt: the domain's own (prompts_dir/examples/<name>.json), or,
 // for a domain with none, the first example of each other domain there, each introduced by a

@@ -93,7 +93,7 @@ std::variant<ReportResult, Error> ReadReport(const Domain& d, const Json& trajec
   ReportResult result;
   ChatLoop chat(llm, o.json_mode,
                 {{"system", *system},
-                 {"user", FillPrompt(*user, {{"domain", DescribeDomain(d)},
+                 {"user", FillPrompt(*user, {{"domain", DescribeDomain(d, dir)},
                                              {"plan", PlanLines(trajectory, now)},
                                              {"now", Number(now)},
                                              {"report", ValidUtf8(report)}})}});

@@ -67,5 +67,33 @@ PY
   then ok "solve $f ($want)"; else bad "solve $f ($want)"; cat "$T/err.txt"; fi
 done
 
+# A goal said once with a quantifier (docs/formats.md) solves as its written-out form.
+for goal in "every(k in robot: robot{k}l[i+1]==rescuedPerson{k})|robot1l[i+1]==rescuedPerson1 /\\ robot2l[i+1]==rescuedPerson2" \
+            "every(p in 1..2: any(k in robot: robot{k}l[i+1]==rescuedPerson{p}))|(robot1l[i+1]==rescuedPerson1 \\/ robot2l[i+1]==rescuedPerson1) /\\ (robot1l[i+1]==rescuedPerson2 \\/ robot2l[i+1]==rescuedPerson2)"; do
+  for objective in makespan cost; do
+    for form in 1 2; do
+      python3 - "$T/team$form.json" "$(echo "$goal" | cut -d'|' -f$form)" "$objective" <<'PY'
+import json, sys
+init = {"robot1": "outside", "robot2": "outside", "door1": "closed", "door2": "closed", "door3": "open"}
+json.dump({"initial_state": init, "end_state": {"goal_constraint": sys.argv[2]},
+           "objective": sys.argv[3]}, open(sys.argv[1], "w"))
+PY
+      "$BIN" solve --domain config/templates/search_rescue_team.json "$T/team$form.json" \
+        > "$T/team$form.out" 2> "$T/err.txt"
+    done
+    if python3 - "$T/team1.out" "$T/team2.out" <<'PY'
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert a["status"] == "optimal" and a["verified"] is True, a["status"]
+for k in ("status", "objective", "cost", "goal_reached_at", "verified"):
+    assert a[k] == b[k], (k, a[k], b[k])
+s = [x["text"] for x in a["state_plan_summary"] if x["pointer"] == "/end_state/goal_constraint"][0]
+assert "for every" in s, s
+PY
+    then ok "quantified goal solves as written out ($objective, ${goal%%|*})"
+    else bad "quantified goal solves as written out ($objective, ${goal%%|*})"; cat "$T/err.txt"; fi
+  done
+done
+
 echo "$((fail == 0 ? 1 : 0)) passed, $fail failed"
 [ "$fail" = 0 ]

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "planner/analyze/bounds.h"
 #include "planner/verify/verify.h"
 #include "random_problem.h"
 #include "team_problem.h"
@@ -118,6 +119,104 @@ TEST(FirstPlan, FreeAssignmentWithMixedSpeeds) {
 // Random problems (the differential suite's generator): guards across automata, episodes,
 // temporal and shared-event constraints, every objective. The engine replays the verifier's
 // rules while it searches, so it must never propose a plan the verifier refuses.
+// search_rescue as a template (config/templates/search_rescue_team.json) with n robots; with
+// `own`, robot k's template lists only its own person k (as bench/gen_scaled.py's
+// rescue_team(n, "own")): the domain grows linearly with the team.
+Domain RescueTeam(int n, bool own) {
+  Diagnostics d;
+  auto t = ReadJsonFile(testing::ConfigDir() + "/templates/search_rescue_team.json", d);
+  if (!t) {
+    ADD_FAILURE() << testing::AllErrors(d);
+    return {};
+  }
+  Json doc = *t;
+  doc["parameters"]["N"] = n;
+  if (own) {
+    Json& robot = doc["automata"][0];
+    for (const char* key : {"locations", "commands", "transitions"}) {
+      Json items = Json::array();
+      for (const Json& it : robot[key]) {
+        if (!it.is_object() || !it.contains("for")) {
+          items.push_back(it);
+          continue;
+        }
+        std::string each = it["each"].dump();
+        for (std::size_t at = each.find("{p}"); at != std::string::npos; at = each.find("{p}"))
+          each.replace(at, 3, "{k}");
+        Json parts = Json::parse(each);
+        if (!parts.is_array()) parts = Json::array({parts});
+        for (const Json& x : parts) items.push_back(x);
+      }
+      robot[key] = items;
+    }
+  }
+  auto dom = LoadDomain(doc, d);
+  EXPECT_TRUE(dom) << testing::AllErrors(d);
+  return dom ? *dom : Domain{};
+}
+
+StatePlan TeamPlan(const Domain& dom, int n, const std::string& goal) {
+  Json init = {{"door1", "closed"}, {"door2", "closed"}, {"door3", "open"}};
+  for (int r = 1; r <= n; ++r) init["robot" + std::to_string(r)] = "outside";
+  Json j = {{"initial_state", init}, {"end_state", {{"goal_constraint", goal}}}};
+  Diagnostics d;
+  auto sp = LoadStatePlan(j, dom, d);
+  EXPECT_TRUE(sp) << testing::AllErrors(d);
+  return sp ? *sp : StatePlan{};
+}
+
+// A goal said once with a quantifier is its written-out conjunction (disjunction): the same
+// bounds, the same first plan.
+TEST(FirstPlan, AQuantifiedGoalIsItsWrittenOutForm) {
+  const int n = 4;
+  const Domain dom = RescueTeam(n, false);
+  std::string every, some;
+  for (int r = 1; r <= n; ++r)
+    every += (r > 1 ? " /\\ " : "") + ("robot" + std::to_string(r) + "l[i+1]==rescuedPerson" +
+                                       std::to_string(r));
+  for (int p = 1; p <= 2; ++p) {
+    std::string any;
+    for (int r = 1; r <= n; ++r)
+      any += (r > 1 ? " \\/ " : "") + ("robot" + std::to_string(r) + "l[i+1]==rescuedPerson" +
+                                       std::to_string(p));
+    some += (p > 1 ? " /\\ " : "") + ("(" + any + ")");
+  }
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"every(k in robot: robot{k}l[i+1]==rescuedPerson{k})", every},
+      {"every(p in 1..2: any(k in robot: robot{k}l[i+1]==rescuedPerson{p}))", some}};
+  for (const auto& [quantified, written] : pairs) {
+    SCOPED_TRACE(quantified);
+    const StatePlan q = TeamPlan(dom, n, quantified), w = TeamPlan(dom, n, written);
+    ASSERT_TRUE(q.goal.written.has_value());
+    EXPECT_FALSE(w.goal.written.has_value());
+    const ObjectiveBounds bq = LowerBounds(dom, q), bw = LowerBounds(dom, w);
+    EXPECT_EQ(bq.cost, bw.cost);
+    EXPECT_EQ(bq.makespan_ticks, bw.makespan_ticks);
+    EXPECT_EQ(bq.events, bw.events);
+    for (Objective o : {Objective::kMakespan, Objective::kCost}) {
+      FirstPlanResult a = Find(dom, q, o), b = Find(dom, w, o);
+      ASSERT_TRUE(a.best && b.best);
+      EXPECT_EQ(a.cost, b.cost);
+      EXPECT_EQ(a.makespan, b.makespan);
+      EXPECT_TRUE(VerifyTrajectory(*a.best, dom, w, 1).empty());  // valid for the written form
+      EXPECT_TRUE(VerifyTrajectory(*b.best, dom, q, 1).empty());
+    }
+  }
+}
+
+// A team of 256, its goal said once (one conjunct a robot written out is over 8,192
+// characters): loaded, planned and proved optimal by its lower bound.
+TEST(FirstPlan, ATeamOf256IsPlannedAndProvedByItsBound) {
+  const int n = 256;
+  const Domain dom = RescueTeam(n, true);
+  ASSERT_EQ(dom.automata.size(), 259u);
+  const StatePlan sp = TeamPlan(dom, n, "every(k in robot: robot{k}l[i+1]==rescuedPerson{k})");
+  FirstPlanResult r = Find(dom, sp, Objective::kMakespan, 20000);
+  ASSERT_TRUE(r.best);
+  EXPECT_EQ(r.makespan, 11);  // the thesis' optimum (5.3.2): every robot by door 1
+  EXPECT_TRUE(MeetsLowerBounds(LowerBounds(dom, sp), Objective::kMakespan, r.cost, r.makespan));
+}
+
 TEST(FirstPlan, RandomProblemsNeverGiveAPlanTheVerifierRefuses) {
   int found = 0, ran = 0;
   for (unsigned seed = 0; seed < 200; ++seed) {

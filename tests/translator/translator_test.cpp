@@ -294,6 +294,43 @@ TEST(Translate, TheKeyNeverAppearsInAnError) {
   EXPECT_EQ(std::get<Error>(r).ToString().find("sk-test-secret"), std::string::npos);
 }
 
+// The action model in the prompt: a domain written with templates says that its teams may be
+// quantified over (expr.h), and instances equal to the first up to their name are listed once.
+TEST(DescribeDomain, TemplatesAreSaidWithTheirQuantifier) {
+  Diagnostics d;
+  auto t = ReadJsonFile(ctb::testing::ConfigDir() + "/templates/search_rescue_team.json", d);
+  ASSERT_TRUE(t);
+  ExpandOptions o;
+  o.parameters["N"] = 5;
+  auto dom = LoadDomain(*t, d, o);
+  ASSERT_TRUE(dom) << ctb::testing::AllErrors(d);
+  const std::string text = DescribeDomain(*dom, ctb::testing::SourceDir() + "/prompts");
+  EXPECT_NE(text.find("Teams (instances of one template): robot = robot1 .. robot5 (5); door = "
+                      "door1, door2 (2);"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("every(k in robot: robot{k}l[i+1]==<location>)"), std::string::npos) << text;
+  EXPECT_NE(text.find("any(k in robot: ...)"), std::string::npos) << text;
+  // The doors are the same but for their names and numbers in their guards: both described.
+  EXPECT_NE(text.find("- door2 (location variable door2l)"), std::string::npos) << text;
+  // A shipped plain domain's description is unchanged (recorded prompts stay valid).
+  EXPECT_EQ(DescribeDomain(ctb::testing::ShippedDomain("search_rescue")).find("Teams"),
+            std::string::npos);
+  // Instances that are the same up to their name are said once.
+  Json crowd = Json::parse(R"J({"name": "crowd", "parameters": {"N": 300}, "automata": [
+      {"template": "robot", "parameter": "k", "instances": "1..N",
+       "locations": ["outside", "home"], "commands": ["go"],
+       "transitions": [{"from": "outside", "to": "home", "guard": "{self}u[i]==go"}]}]})J");
+  auto c = LoadDomain(crowd, d);
+  ASSERT_TRUE(c) << ctb::testing::AllErrors(d);
+  const std::string ct = DescribeDomain(*c, ctb::testing::SourceDir() + "/prompts");
+  EXPECT_NE(ct.find("- robot2 .. robot300: the same as robot1, each with its own variables "
+                    "(robot2l, robot2u, ...)"),
+            std::string::npos)
+      << ct;
+  EXPECT_LT(ct.size(), 2000u);
+}
+
 TEST(HttpClient, RetriesA429AfterRetryAfter) {
   MockLlmServer m;
   MockReply busy = MockReply::Status(429, "slow down");
