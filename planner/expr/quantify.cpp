@@ -79,9 +79,7 @@ class Expander {
     Expr out = e;
     out.var = Substitute(e.var, env);
     out.value = Substitute(e.value, env);
-    if (!env.empty() && (out.var != e.var || out.value != e.value)) {
-      for (const auto& [k, v] : env) out.binding += (out.binding.empty() ? "" : ", ") + k + "=" + v;
-    }
+    for (const auto& [k, v] : env) out.binding += (out.binding.empty() ? "" : ", ") + k + "=" + v;
     return out;
   }
 

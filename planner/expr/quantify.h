@@ -34,8 +34,9 @@ using TemplateNames = std::function<std::vector<std::string>()>;
 
 // Replaces every quantifier of e by the conjunction (every) or disjunction (any) of its body over
 // the range's values, with each placeholder "{k}" of a name replaced by k's value; the copies
-// are joined as a balanced tree (depth log n) and keep the offsets of the text, and each
-// expanded atom records its variables' values in `binding`. On error (a template that does not
+// are joined as a balanced tree (depth log n) and keep the offsets of the text, and each atom
+// inside a quantifier records its variables' values in `binding` (the checker reports one error
+// or warning per place in the text, naming them). On error (a template that does not
 // exist, a range of more than 100,000 values, the budget used up) returns the offset into the
 // text and a message; e is then unspecified.
 std::optional<ExprError> ExpandQuantifiers(Expr& e, const TemplateValues& templates,

@@ -148,8 +148,9 @@ class Checker {
       return true;
     }
     if (idx.kind == IndexKind::kFixed) {
-      diags_.Warning(pointer_, "fixed stage index [" + std::to_string(idx.fixed) + "] on '" +
-                                   e.var + "': did you mean [i] or [i+1]?", idx.offset);
+      if (!current_ || warned_offsets_.insert(idx.offset).second)  // once per place in the text
+        diags_.Warning(pointer_, "fixed stage index [" + std::to_string(idx.fixed) + "] on '" +
+                                     e.var + "': did you mean [i] or [i+1]?", idx.offset);
       info_.uses_fixed = true;
     } else if (idx.kind == IndexKind::kI) {
       info_.domain_uses_i = true;
@@ -214,7 +215,8 @@ class Checker {
   Diagnostics& diags_;
   ExprInfo& info_;
   const Expr* current_ = nullptr;       // the expanded atom being checked, for messages
-  std::set<std::size_t> bad_offsets_;  // places of expanded atoms already reported
+  std::set<std::size_t> bad_offsets_;     // places of expanded atoms already reported
+  std::set<std::size_t> warned_offsets_;  // ... already warned about
 };
 
 }  // namespace
