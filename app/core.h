@@ -206,24 +206,20 @@ struct ExecutionEvent {
   Json data;
 };
 
-enum class PlanStatus { kOptimal, kFeasible, kInfeasible, kUnknown };
-const char* PlanStatusName(PlanStatus s);
-
-// A planner answer: the typed parts front ends map (status, objective, bound, proof reach,
-// statistics), and the contract's section-5 document itself (with state_plan_summary and, when
-// infeasible, explanation), which is what the HTTP API returns as is.
+// A planner answer: the typed result front ends map (planner/solve/solve_result.h: status,
+// plan, objective value, bound, proof reach, engines, statistics) and the contract's document,
+// written from it once by the core (section 5, with state_plan_summary and, when infeasible,
+// explanation; a replan's now, keep, diff, report and session), which HTTP returns as is.
 struct Answer {
-  PlanStatus status = PlanStatus::kUnknown;
-  std::optional<double> objective;
-  std::optional<double> bound;
-  bool verified = false;
-  // "any_horizon" when a static proof covers every number of events; "max_horizon" when the
-  // proof holds up to the `horizon` statistic; "" unless infeasible.
-  std::string infeasible_for;
-  // solver, solve_ms, horizon, ... as text; core_ms: the whole call inside the core (checks,
-  // gate, planner, summary, explanation), which front ends report (HTTP: Server-Timing).
+  SolveResult result;
+  std::optional<Json> diff;    // a replan's: the future against the previous plan
+  std::optional<Json> report;  // a replan from words: what was understood
+  std::string session;         // a replan in a session: the session's id
+  // The statistics as text (solver, solve_ms, horizon, cost, ...); core_ms: the whole call inside
+  // the core (checks, gate, planner, summary, explanation), which front ends report (HTTP:
+  // Server-Timing).
   std::map<std::string, std::string> metrics;
-  Json document;                               // the whole trajectory answer (section 5, 9)
+  Json document;
 };
 
 struct TranslateAnswer {

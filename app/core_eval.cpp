@@ -78,12 +78,11 @@ Solved SolveOne(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   x.plan_out = &s.plan;
   x.derive_network = false;
   auto r = ::ctb::Solve(d, sp, x);
-  if (auto* doc = std::get_if<Json>(&r)) {
-    s.status = doc->value("status", "unknown");
-    s.objective = doc->value("objective", Json());
-    s.infeasible_for = doc->value("infeasible_for", "");
-    if ((s.status == "optimal" || s.status == "feasible") && !doc->value("verified", false))
-      s.status = "unknown";
+  if (auto* res = std::get_if<SolveResult>(&r)) {
+    s.status = TerminationName(res->status);
+    s.objective = ObjectiveJson(*res);
+    s.infeasible_for = InfeasibleScopeName(res->scope);
+    if ((s.status == "optimal" || s.status == "feasible") && !res->verified()) s.status = "unknown";
   } else {
     s.status = "error";
   }
@@ -168,21 +167,16 @@ std::variant<Json, Error> Core::Eval(const EvalCall& call, const CallContext& ct
       } else {
         line["valid"] = true;
         bool solvable = false;
-        auto run = [&](const SolveOptions& o) -> std::variant<Json, Error> {
-          auto [v, w] = Compare(item, std::get<StatePlan>(sp), o, solvable);
-          return Json{{"status", "done"}, {"verdict", v}, {"why", w}};
+        auto run = [&](const SolveOptions& o) {
+          std::tie(verdict, why) = Compare(item, std::get<StatePlan>(sp), o, solvable);
         };
         // The item's solves in one job place, quietly: a stream hears items, not their solves.
         Observer quiet;
         if (ctx.observer) quiet.ticket = ctx.observer->ticket;
-        auto r = impl_->RunGated(std::get<SolveOptions>(opts), CallContext{&quiet, ctx.cancelled, ctx.request_id}, run);
-        if (auto* e = std::get_if<Error>(&r)) {
+        if (auto e = impl_->InGate(std::get<SolveOptions>(opts),
+                                   CallContext{&quiet, ctx.cancelled, ctx.request_id}, run)) {
           verdict = "unknown";
           why = e->message;
-        } else {
-          const Json& doc = std::get<Answer>(r).document;
-          verdict = doc.value("verdict", "unknown");
-          why = doc.value("why", "");
         }
         line["solvable"] = solvable;
       }

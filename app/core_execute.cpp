@@ -37,6 +37,17 @@ std::optional<Error> CheckCall(const ExecutionCall& call) {
   return std::nullopt;
 }
 
+// A plan to execute is a plan, with its network (the dispatcher's input).
+std::optional<Error> NothingToExecute(const SolveResult& r) {
+  if ((r.status == Termination::kOptimal || r.status == Termination::kFeasible) && r.network &&
+      r.network->is_object())
+    return std::nullopt;
+  return Error{ErrorCode::kUnprocessable,
+               std::string("there is no plan to execute: the planner answered ") +
+                   TerminationName(r.status) + (r.message.empty() ? "" : " (" + r.message + ")"),
+               {}};
+}
+
 }  // namespace
 
 std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& request, const CallContext& ctx) {
@@ -60,6 +71,15 @@ std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& reque
     ref.name = sess.domain;
     state_plan = sess.state_plan;
     plan = s->doc["trajectory"];
+    // The session's stored plan: its document is all there is.
+    const std::string status = plan.value("status", "");
+    if ((status != "optimal" && status != "feasible") || !plan.contains("network") ||
+        !plan["network"].is_object())
+      return Error{ErrorCode::kUnprocessable,
+                   "there is no plan to execute: the planner answered " +
+                       (status.empty() ? "nothing" : status) +
+                       (plan.contains("message") ? " (" + plan.value("message", "") + ")" : ""),
+                   {}};
   } else if (!call.trajectory.is_null()) {
     ReplanCall rc;
     rc.domain = ref;
@@ -69,7 +89,8 @@ std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& reque
     rc.keep = "min_change";
     auto r = Replan(rc, ctx);
     if (auto* e = std::get_if<Error>(&r)) return *e;
-    plan = std::get<Answer>(r).document;
+    if (auto e = NothingToExecute(std::get<Answer>(r).result)) return *e;
+    plan = std::move(std::get<Answer>(r).document);
   } else {
     SolveCall sc;
     sc.domain = ref;
@@ -77,14 +98,9 @@ std::variant<std::string, Error> Core::StartExecution(const ExecutionCall& reque
     sc.options = call.options;
     auto r = Solve(sc, ctx);
     if (auto* e = std::get_if<Error>(&r)) return *e;
-    plan = std::get<Answer>(r).document;
+    if (auto e = NothingToExecute(std::get<Answer>(r).result)) return *e;
+    plan = std::move(std::get<Answer>(r).document);
   }
-  const std::string status = plan.value("status", "");
-  if ((status != "optimal" && status != "feasible") || !plan.contains("network") || !plan["network"].is_object())
-    return Error{ErrorCode::kUnprocessable,
-                 "there is no plan to execute: the planner answered " + (status.empty() ? "nothing" : status) +
-                     (plan.contains("message") ? " (" + plan["message"].get<std::string>() + ")" : ""),
-                 {}};
   auto dom = impl_->ResolveDomain(ref);
   if (auto* e = std::get_if<Error>(&dom)) return *e;
   Json doc = {{"state_plan", state_plan}, {"adapter", call.adapter}, {"speed", call.speed}, {"replan", call.replan},

@@ -51,7 +51,10 @@ struct Core::Impl {
   // Runs `run` in a job slot with the job's cancel flag and progress set in its options.
   std::variant<Answer, Error> RunGated(
       SolveOptions o, const CallContext& ctx,
-      const std::function<std::variant<Json, Error>(const SolveOptions&)>& run);
+      const std::function<std::variant<Answer, Error>(const SolveOptions&)>& run);
+  // The same for any job: the gate's refusal, or what `run` throws, as an Error.
+  std::optional<Error> InGate(SolveOptions o, const CallContext& ctx,
+                              const std::function<void(const SolveOptions&)>& run);
   // A report in words (ReplanCall::command) read by the LLM: {"request": the request with the
   // report's observed/blocked merged in, "report": what the answer shows}.
   std::variant<Json, Error> ReadReportInWords(const Domain& d, const StatePlan& sp,
@@ -66,8 +69,10 @@ struct Core::Impl {
 // Opens the execution store and resumes the executions that were running (core_execute.cpp).
 std::optional<Error> OpenExecutions(Core& core, Core::Impl& impl);
 
-// The typed view of a planner answer (Solve()'s JSON document, annotated).
-Answer AnswerFromDocument(Json doc);
+// The answer of a solve: its document written (ResultJson) and its statistics as text.
+Answer AnswerOf(SolveResult result, const Domain& d, const StatePlan& sp);
+// The statistics of a result as text, for the front ends' metrics (gRPC's map).
+std::map<std::string, std::string> MetricsOf(const SolveResult& r);
 
 // Bad input at one pointer.
 Error Bad(const std::string& message, const std::string& pointer);

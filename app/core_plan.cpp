@@ -162,7 +162,7 @@ std::variant<PlanAnswer, Error> Core::Plan(const PlanCall& call, const CallConte
   const Json& trajectory = out.answer.document;
   const Json turn = TurnRecord(call.command, tr.result.reasoning, tr.result.state_plan, trajectory);
   auto conversation = tr.result.conversation;
-  if (auto note = DialogueNote(trajectory); !note.empty())
+  if (auto note = DialogueNote(out.answer.result); !note.empty())
     conversation.push_back({"assistant", note});  // the next turn knows why it failed
   if (stored) {
     UpdateSessionDoc(stored->doc, conversation, tr.result.state_plan, turn);

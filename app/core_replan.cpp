@@ -46,6 +46,22 @@ std::optional<Error> CheckRequest(const Domain& d, const StatePlan& sp, const Js
   return CheckReplanRequest(d, sp, rr);
 }
 
+// The replan's answer, its document written once: the trajectory with now, keep and diff
+// (ReplanJson), the state plan's summary, and the report in words when there was one.
+Answer ReplanAnswer(ReplanResult r, const Domain& d, const StatePlan& sp, const Json& report) {
+  r.answer.summary = SummarizeStatePlan(d, sp);
+  Answer a;
+  a.document = ReplanJson(r, d, sp);
+  if (!report.is_null()) {
+    a.document["report"] = report;
+    a.report = report;
+  }
+  a.metrics = MetricsOf(r.answer);
+  a.diff = std::move(r.diff);
+  a.result = std::move(r.answer);
+  return a;
+}
+
 }  // namespace
 
 std::variant<Json, Error> Core::Impl::ReadReportInWords(const Domain& d, const StatePlan& sp,
@@ -135,17 +151,16 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
   ro.keep = *keep;
   const StatePlan& plan = std::get<StatePlan>(sp);
   auto answered = impl_->RunGated(std::get<SolveOptions>(opts), ctx,
-                                  [&](const SolveOptions& so) -> std::variant<Json, Error> {
+                                  [&](const SolveOptions& so) -> std::variant<Answer, Error> {
                                     ReplanOptions o = ro;
                                     o.solve = so;
                                     auto r = ::ctb::Replan(domain, plan, rr, o);
-                                    if (auto* doc = std::get_if<Json>(&r))
-                                      (*doc)["state_plan_summary"] = SummarizeStatePlan(domain, plan);
-                                    return r;
+                                    if (auto* e = std::get_if<Error>(&r)) return *e;
+                                    return ReplanAnswer(std::get<ReplanResult>(std::move(r)),
+                                                        domain, plan, report);
                                   });
   if (auto* e = std::get_if<Error>(&answered)) return *e;
   Answer answer = std::move(std::get<Answer>(answered));
-  if (!report.is_null()) answer.document["report"] = report;
   if (!stored) return answer;
   // The replan is a turn of the session; a plan it found becomes the session's current one.
   Json turn = TurnRecord(call.command.value_or("(replan)"), "", state_plan, answer.document);
@@ -164,6 +179,7 @@ std::variant<Answer, Error> Core::Replan(const ReplanCall& call, const CallConte
     default: return impl_->StoreFailed("session");
   }
   answer.document["session"] = stored->id;
+  answer.session = stored->id;
   return answer;
 }
 

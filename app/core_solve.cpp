@@ -14,56 +14,37 @@
 
 namespace ctb::app {
 
-namespace {
-
-std::optional<double> Number(const Json& v) {
-  if (v.is_number()) return v.get<double>();
-  if (v.is_object() && v.contains("cost") && v["cost"].is_number()) return v["cost"].get<double>();
-  return std::nullopt;
-}
-
-std::string Text(const Json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
-
-}  // namespace
-
 Error Bad(const std::string& message, const std::string& pointer) {
   return {ErrorCode::kInvalidInput, message, {{pointer, std::nullopt, message}}};
 }
 
-const char* PlanStatusName(PlanStatus s) {
-  switch (s) {
-    case PlanStatus::kOptimal: return "optimal";
-    case PlanStatus::kFeasible: return "feasible";
-    case PlanStatus::kInfeasible: return "infeasible";
-    case PlanStatus::kUnknown: return "unknown";
+std::map<std::string, std::string> MetricsOf(const SolveResult& r) {
+  std::map<std::string, std::string> m;
+  const SolveStats& s = r.stats;
+  m["solver"] = s.solver;
+  if (r.plan && !s.found_by.empty()) m["found_by"] = s.found_by;
+  if (Proven(r.status) && !s.proved_by.empty()) m["proved_by"] = s.proved_by;
+  m["compile_ms"] = std::to_string(s.compile_ms);
+  m["solve_ms"] = std::to_string(s.solve_ms);
+  m["first_solution_ms"] = std::to_string(s.first_solution_ms);
+  m["variables"] = std::to_string(s.variables);
+  m["solver_runs"] = std::to_string(s.solver_runs);
+  for (const auto& [k, v] : s.extra.items()) m[k] = v.is_string() ? v.get<std::string>() : v.dump();
+  m["horizon"] = std::to_string(r.plan ? r.plan->horizon : r.horizon);
+  m["max_horizon"] = std::to_string(r.max_horizon);
+  if (auto v = r.Value()) {
+    m["cost"] = std::to_string(r.cost);
+    m["goal_reached_at"] = v->MakespanJson().dump();
   }
-  return "unknown";
+  if (r.scope != InfeasibleScope::kNone) m["infeasible_for"] = InfeasibleScopeName(r.scope);
+  return m;
 }
 
-Answer AnswerFromDocument(Json doc) {
+Answer AnswerOf(SolveResult result, const Domain& d, const StatePlan& sp) {
   Answer a;
-  const std::string status = doc.value("status", "unknown");
-  a.status = status == "optimal"      ? PlanStatus::kOptimal
-             : status == "feasible"   ? PlanStatus::kFeasible
-             : status == "infeasible" ? PlanStatus::kInfeasible
-                                      : PlanStatus::kUnknown;
-  if (doc.contains("objective") && doc["objective"].is_object())
-    a.objective = Number(doc["objective"].value("value", Json()));
-  if (doc.contains("bound")) a.bound = Number(doc["bound"]);
-  a.verified = doc.value("verified", false);
-  if (a.status == PlanStatus::kInfeasible) {
-    if (doc.contains("infeasible_for") && doc["infeasible_for"].is_string())
-      a.infeasible_for = doc["infeasible_for"];
-    else
-      a.infeasible_for = doc.value("stats", Json::object()).value("solver", "") == "static analysis"
-                             ? "any_horizon"
-                             : "max_horizon";
-  }
-  if (doc.contains("stats") && doc["stats"].is_object())
-    for (auto& [k, v] : doc["stats"].items()) a.metrics[k] = Text(v);
-  for (const char* k : {"horizon", "max_horizon", "goal_reached_at", "cost"})
-    if (doc.contains(k) && !doc[k].is_null()) a.metrics[k] = Text(doc[k]);
-  a.document = std::move(doc);
+  a.document = ResultJson(result, d, sp);
+  a.metrics = MetricsOf(result);
+  a.result = std::move(result);
   return a;
 }
 
@@ -153,10 +134,12 @@ std::variant<SolveOptions, Error> Core::Impl::MakeOptions(const RequestOptions& 
 
 std::variant<Answer, Error> Core::Impl::SolveGated(const Domain& d, const StatePlan& sp,
                                                    SolveOptions o, const CallContext& ctx) {
-  return RunGated(std::move(o), ctx, [&](const SolveOptions& so) -> std::variant<Json, Error> {
+  return RunGated(std::move(o), ctx, [&](const SolveOptions& so) -> std::variant<Answer, Error> {
     auto r = ::ctb::Solve(d, sp, so);
-    if (auto* doc = std::get_if<Json>(&r)) AnnotateAnswer(d, sp, so, *doc);  // summary, explanation
-    return r;
+    if (auto* e = std::get_if<Error>(&r)) return *e;
+    SolveResult& result = std::get<SolveResult>(r);
+    AnnotateAnswer(d, sp, so, result);  // summary, explanation
+    return AnswerOf(std::move(result), d, sp);
   });
 }
 
@@ -188,7 +171,14 @@ std::shared_ptr<JobTicket> Core::ReserveJob() {
 
 std::variant<Answer, Error> Core::Impl::RunGated(
     SolveOptions o, const CallContext& ctx,
-    const std::function<std::variant<Json, Error>(const SolveOptions&)>& run) {
+    const std::function<std::variant<Answer, Error>(const SolveOptions&)>& run) {
+  std::variant<Answer, Error> out = Error{ErrorCode::kInternal, "the job did not run", {}};
+  if (auto e = InGate(std::move(o), ctx, [&](const SolveOptions& so) { out = run(so); })) return *e;
+  return out;
+}
+
+std::optional<Error> Core::Impl::InGate(SolveOptions o, const CallContext& ctx,
+                                        const std::function<void(const SolveOptions&)>& run) {
   auto* ticket = ctx.observer ? dynamic_cast<GateTicket*>(ctx.observer->ticket.get()) : nullptr;
   if (!gate.Enter(stopping, ticket && ticket->Use())) {
     ++metrics.solver_rejected;
@@ -213,9 +203,8 @@ std::variant<Answer, Error> Core::Impl::RunGated(
     }
   } finish{watch, gate};
   try {
-    auto r = run(o);
-    if (auto* e = std::get_if<Error>(&r)) return *e;
-    return AnswerFromDocument(std::move(std::get<Json>(r)));
+    run(o);
+    return std::nullopt;
   } catch (const std::bad_alloc&) {
     spdlog::error("{}", Json({{"event", "solve_failed"}, {"what", "out of memory"}}).dump());
     return Error{ErrorCode::kUnavailable,

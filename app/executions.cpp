@@ -224,27 +224,28 @@ void Executions::Replan(std::shared_ptr<Live>& live, std::unique_lock<std::mutex
     return;
   }
   const Answer& answer = std::get<Answer>(r);
+  const SolveResult& result = answer.result;
   const Json& doc = answer.document;
-  if ((answer.status == PlanStatus::kOptimal || answer.status == PlanStatus::kFeasible) &&
-      doc.contains("network") && doc["network"].is_object()) {
+  if ((result.status == Termination::kOptimal || result.status == Termination::kFeasible) &&
+      result.network && result.network->is_object()) {
     if (auto e = live->run.Adopt(doc, now)) {
       live->run.Finish(exec::State::kFailed, e->message);
       return;
     }
     ++live->replans;
     // ms: from the decision to replan to the new plan adopted; its first commands go out at once.
-    Emit(*live, "replanned", {{"why", why}, {"now", call.request["now"]}, {"status", doc.value("status", "")},
-                              {"objective", doc.value("objective", Json())}, {"diff", doc.value("diff", Json())},
+    Emit(*live, "replanned", {{"why", why}, {"now", call.request["now"]}, {"status", TerminationName(result.status)},
+                              {"objective", ObjectiveJson(result)}, {"diff", answer.diff.value_or(Json())},
                               {"ms", store::NowMs() - t0}});
     if (!live->run.Replay(seen)) live->pending_replan = "reports came while replanning that the new plan does not have next";
     Persist(*live);
     return;
   }
   std::string reason = "no plan was found in time after: " + why;
-  if (answer.status == PlanStatus::kInfeasible) {
+  if (result.status == Termination::kInfeasible) {
     reason = "no plan is left after: " + why;
-    const Json conflicts = doc.value("explanation", Json::object()).value("conflicts", Json::array());
-    if (!conflicts.empty() && conflicts[0].contains("text")) reason += ". " + conflicts[0]["text"].get<std::string>();
+    if (result.explanation && !result.explanation->conflicts.empty())
+      reason += ". " + result.explanation->conflicts[0].text;
   }
   live->run.Finish(exec::State::kFailed, reason);
 }

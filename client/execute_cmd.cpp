@@ -214,20 +214,20 @@ class Executor {
       PrintError(RelativeTo(*e, "/state_plan"));
       return false;
     }
-    Json ans = std::move(std::get<app::Answer>(r).document);
-    std::string text = Stamp(now) + (why == "start" ? "PLAN " : "REPLAN ") + ans["status"].get<std::string>();
-    if (ans.contains("transitions"))
-      text += ", " + ans["objective"]["kind"].get<std::string>() + " " + ans["objective"]["value"].dump();
-    if (ans.contains("diff") && why != "start")
-      text += " (kept " + std::to_string(ans["diff"]["kept"].size()) + ", moved " +
-              std::to_string(ans["diff"]["moved"].size()) + ", added " +
-              std::to_string(ans["diff"]["added"].size()) + ", dropped " +
-              std::to_string(ans["diff"]["dropped"].size()) + ")";
+    app::Answer& answer = std::get<app::Answer>(r);
+    const SolveResult& res = answer.result;
+    Json ans = std::move(answer.document);
+    std::string text = Stamp(now) + (why == "start" ? "PLAN " : "REPLAN ") + TerminationName(res.status);
+    if (auto v = res.Value()) text += std::string(", ") + ObjectiveName(res.objective) + " " + v->ToJson().dump();
+    if (answer.diff && why != "start")
+      text += " (kept " + std::to_string((*answer.diff)["kept"].size()) + ", moved " +
+              std::to_string((*answer.diff)["moved"].size()) + ", added " +
+              std::to_string((*answer.diff)["added"].size()) + ", dropped " +
+              std::to_string((*answer.diff)["dropped"].size()) + ")";
     Line({{"type", why == "start" ? "plan" : "replan"}, {"time", now}, {"answer", ans}}, text);
-    if (ans["status"] != "optimal" && ans["status"] != "feasible") {
-      if (ans.contains("explanation"))
-        for (const auto& c : ans["explanation"]["conflicts"])
-          if (!o_.json) std::cout << "  " << c["text"].get<std::string>() << "\n";
+    if (res.status != Termination::kOptimal && res.status != Termination::kFeasible) {
+      if (res.explanation && !o_.json)
+        for (const auto& c : res.explanation->conflicts) std::cout << "  " << c.text << "\n";
       return false;
     }
     // Observations the replan absorbed are part of the history from now on.

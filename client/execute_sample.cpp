@@ -51,10 +51,10 @@ std::variant<Prepared, std::string> Prepare(const LoadedProblem& p, const Sample
   so.plan_out = &out.plan;
   auto r = Solve(p.domain, p.sp, so);
   if (auto* e = std::get_if<Error>(&r)) return e->ToString();
-  const Json& a = std::get<Json>(r);
-  if (!a.value("verified", false)) return "no plan to execute (status " + a.value("status", "") + ")";
-  if (a.value("status", "") == "unknown")
-    return a.value("message", "no plan of the controllability asked for") +
+  const SolveResult& a = std::get<SolveResult>(r);
+  if (!a.verified()) return std::string("no plan to execute (status ") + TerminationName(a.status) + ")";
+  if (a.status == Termination::kUnknown)
+    return (a.message.empty() ? "no plan of the controllability asked for" : a.message) +
            " (--controllability none executes it anyway)";
   const long tps = std::lround(1.0 / p.domain.time_resolution);
   std::string why;

@@ -67,35 +67,37 @@ app::RequestOptions OptionsOf(const pb::Options& o) {
 }
 
 pb::PlanStatus StatusOf(const app::Answer& a) {
-  switch (a.status) {
-    case app::PlanStatus::kOptimal: return pb::SOLVED_OPTIMALLY;
-    case app::PlanStatus::kFeasible: return pb::SOLVED_SATISFICING;
-    case app::PlanStatus::kInfeasible:
-      return a.infeasible_for == "any_horizon" ? pb::UNSOLVABLE_PROVEN : pb::UNSOLVABLE_INCOMPLETELY;
-    case app::PlanStatus::kUnknown: return pb::TIMEOUT;
+  switch (a.result.status) {
+    case Termination::kOptimal: return pb::SOLVED_OPTIMALLY;
+    case Termination::kFeasible: return pb::SOLVED_SATISFICING;
+    case Termination::kInfeasible:
+      return a.result.scope == InfeasibleScope::kAnyHorizon ? pb::UNSOLVABLE_PROVEN
+                                                             : pb::UNSOLVABLE_INCOMPLETELY;
+    case Termination::kUnknown: return pb::TIMEOUT;
   }
   return pb::INTERNAL_ERROR;
 }
 
+// The typed answer mapped field by field; the trajectory (the contract's own message) through
+// protobuf's JSON mapping of the answer's document.
 pb::PlanResult ResultOf(const app::Answer& a) {
+  const SolveResult& res = a.result;
   pb::PlanResult r;
   r.set_status(StatusOf(a));
-  const Json& doc = a.document;
-  Json traj = WrapForProto(doc);
+  Json traj = WrapForProto(a.document);
   traj.erase("state_plan_summary");
   traj.erase("explanation");
-  if (a.status == app::PlanStatus::kInfeasible) traj["infeasible_for"] = a.infeasible_for;
+  if (res.status == Termination::kInfeasible) traj["infeasible_for"] = InfeasibleScopeName(res.scope);
   FromJson(traj, r.mutable_trajectory());
-  if (doc.contains("objective") && doc["objective"].is_object())
-    *r.mutable_objective() = ValueOf(doc["objective"].value("value", Json()));
-  if (doc.contains("bound")) *r.mutable_bound() = ValueOf(doc["bound"]);
-  if (doc.contains("state_plan_summary"))
-    for (const auto& s : doc["state_plan_summary"]) FromJson(s, r.add_state_plan_summary());
-  if (doc.contains("explanation")) FromJson(doc["explanation"], r.mutable_explanation());
-  if (doc.contains("diff")) FromJson(doc["diff"], r.mutable_diff());
-  if (doc.contains("report")) FromJson(doc["report"], r.mutable_report());
+  const auto value = res.Value();
+  *r.mutable_objective() = ValueOf(value ? value->ToJson() : Json());
+  if (res.bound) *r.mutable_bound() = ValueOf(res.bound->ToJson());
+  if (res.summary)
+    for (const auto& s : *res.summary) FromJson(s, r.add_state_plan_summary());
+  if (res.explanation) FromJson(ExplanationJson(*res.explanation), r.mutable_explanation());
+  if (a.diff) FromJson(*a.diff, r.mutable_diff());
+  if (a.report) FromJson(*a.report, r.mutable_report());
   for (const auto& [k, v] : a.metrics) (*r.mutable_metrics())[k] = v;
-  if (!a.infeasible_for.empty()) (*r.mutable_metrics())["infeasible_for"] = a.infeasible_for;
   return r;
 }
 

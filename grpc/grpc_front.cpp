@@ -224,9 +224,9 @@ class PlannerService final : public pb::Planner::Service {
     return Run(c, "Replan", [&]() -> Status {
       auto s = core_.Replan(ReplanCallOf(*q), Context(c, nullptr));
       if (auto* e = std::get_if<Error>(&s)) return StatusOf(*e);
-      *r = ResultOf(std::get<app::Answer>(s));
-      const Json& doc = std::get<app::Answer>(s).document;
-      if (doc.contains("session") && doc["session"].is_string()) r->set_session(doc["session"]);
+      const app::Answer& a = std::get<app::Answer>(s);
+      *r = ResultOf(a);
+      if (!a.session.empty()) r->set_session(a.session);
       return Status::OK;
     });
   }

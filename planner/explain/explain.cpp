@@ -130,9 +130,9 @@ class Explainer {
     return FindStaticConflict(d_, sp);
   }
 
-  Json Run() {
+  Explanation Run() {
     const auto t0 = Clock::now();
-    Json out = {{"conflicts", Json::array()}, {"relaxations", Json::array()}};
+    Explanation out;
     std::optional<StaticConflict> stat = Static(sp_);
     std::vector<std::string> set = stat ? stat->parts : parts_;
     bool from_static = stat.has_value();
@@ -171,7 +171,7 @@ class Explainer {
     for (const auto& f : feasible_)  // the largest set shown feasible, for "unknown"
       if (f.size() > consistent.size()) consistent = f;
     if (set.empty() || (!from_static && set == parts_ && parts_.empty())) {
-      out["status"] = "unknown";
+      out.status = ExplanationStatus::kUnknown;
       return Finish(out, t0);
     }
     std::string text;
@@ -186,28 +186,28 @@ class Explainer {
       for (const auto& p : set) s.push_back(SummaryOf(p));
       for (std::size_t k = 0; k < s.size(); ++k) text += (k ? " " : "") + s[k];
     }
-    out["conflicts"].push_back({{"constraints", set}, {"text", text}});
-    out["status"] = proven ? "minimal" : "unknown";
-    if (!proven) out["consistent"] = consistent;
+    out.conflicts.push_back({set, text, Json()});
+    out.status = proven ? ExplanationStatus::kMinimal : ExplanationStatus::kUnknown;
+    if (!proven) out.consistent = consistent;
     route_ = from_static ? "static analysis"
              : from_core && z3_checks_ > 0 ? "z3 core"
                                             : "deletion filter";
     conflict_ms_ = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
-    Relax(set, stat, out["relaxations"]);
+    Relax(set, stat, out.relaxations);
     return Finish(out, t0);
   }
 
  private:
-  Json Finish(Json& out, Clock::time_point t0) {
-    out["stats"] = {
+  Explanation Finish(Explanation& out, Clock::time_point t0) {
+    out.stats = {
         {"solver_calls", calls_},
         {"ms", std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count()}};
     if (!route_.empty()) {
-      out["stats"]["conflict_by"] = route_;
-      out["stats"]["conflict_ms"] = conflict_ms_;
+      out.stats["conflict_by"] = route_;
+      out.stats["conflict_ms"] = conflict_ms_;
     }
-    if (z3_checks_ >= 0) out["stats"]["z3_checks"] = z3_checks_;
-    return out;
+    if (z3_checks_ >= 0) out.stats["z3_checks"] = z3_checks_;
+    return std::move(out);
   }
 
   std::string Horizon() const {
@@ -371,9 +371,16 @@ class Explainer {
     return v;
   }
 
-  // Solves a state plan given as JSON. `witness` receives the trajectory when feasible. With
+  // A feasible probe's plan, with the state plan it was found for.
+  struct Witness {
+    Trajectory plan;
+    std::optional<StatePlan> sp;
+    long tps = 1;
+  };
+
+  // Solves a state plan given as JSON. `witness` receives the plan when feasible. With
   // cap_ms > 0 the solve stops after that long (kUnknown unless a plan was found).
-  Verdict Check(const Json& j, Json* witness = nullptr, long cap_ms = 0) {
+  Verdict Check(const Json& j, Witness* witness = nullptr, long cap_ms = 0) {
     Diagnostics diags;
     auto sp = LoadStatePlan(j, d_, diags);
     if (!sp) return Verdict::kCannotDrop;  // a part others name: cannot be dropped alone
@@ -405,12 +412,11 @@ class Explainer {
     auto r = Solve(d_, *sp, o);
     if (watch) watch->Stop();
     if (found.load()) return Verdict::kFeasible;
-    if (!std::holds_alternative<Json>(r)) return Verdict::kUnknown;
-    const Json& t = std::get<Json>(r);
-    std::string status = t.value("status", "");
-    if (status == "infeasible") return Verdict::kInfeasible;
-    if (status == "optimal" || status == "feasible") {
-      if (witness) *witness = t;
+    auto* t = std::get_if<SolveResult>(&r);
+    if (!t) return Verdict::kUnknown;
+    if (t->status == Termination::kInfeasible) return Verdict::kInfeasible;
+    if (t->status == Termination::kOptimal || t->status == Termination::kFeasible) {
+      if (witness && t->plan) *witness = Witness{std::move(*t->plan), std::move(sp), t->ticks_per_second};
       return Verdict::kFeasible;
     }
     return Verdict::kUnknown;
@@ -423,16 +429,31 @@ class Explainer {
   };
 
   // The realized time between a temporal constraint's events or an episode's ends.
-  static std::optional<double> Realized(const Json& t, const std::string& group,
+  static std::optional<double> Realized(const Witness& w, const std::string& group,
                                         const std::string& name) {
+    const Trajectory& t = w.plan;
+    if (!w.sp) return std::nullopt;
+    const int g = t.goal_event;
+    auto at = [&](int k) -> std::optional<double> {
+      if (k < 0 || k > g || k >= static_cast<int>(t.events.size())) return std::nullopt;
+      return static_cast<double>(t.events[k]) / static_cast<double>(w.tps);
+    };
+    auto between = [&](std::pair<int, int> ks, bool absolute) -> std::optional<double> {
+      auto a = at(ks.first), b = at(ks.second);
+      if (!a || !b) return std::nullopt;
+      return absolute ? std::fabs(*b - *a) : *b - *a;
+    };
     if (group == "temporal") {
-      const Json* x = t.contains("temporal") && t["temporal"].contains(name) ? &t["temporal"][name] : nullptr;
-      if (!x || !(*x)["event1"].is_number() || !(*x)["event2"].is_number()) return std::nullopt;
-      return std::fabs((*x)["event2"].get<double>() - (*x)["event1"].get<double>());
+      for (std::size_t q = 0; q < w.sp->temporals.size() && q < t.temporals.size(); ++q)
+        if (w.sp->temporals[q].name == name) return between(t.temporals[q], true);
+      for (std::size_t q = 0; q < w.sp->orders.size() && q < t.orders.size(); ++q)
+        if (!w.sp->orders[q].name.empty() && w.sp->orders[q].name == name)
+          return between(t.orders[q], true);
+      return std::nullopt;
     }
-    const Json* x = t.contains("episodes") && t["episodes"].contains(name) ? &t["episodes"][name] : nullptr;
-    if (!x || !(*x)["start"].is_number() || !(*x)["end"].is_number()) return std::nullopt;
-    return (*x)["end"].get<double>() - (*x)["start"].get<double>();
+    for (std::size_t p = 0; p < w.sp->episodes.size() && p < t.episodes.size(); ++p)
+      if (w.sp->episodes[p].name == name) return between(t.episodes[p], false);
+    return std::nullopt;
   }
 
   // The least move of one bound of `pointer` (a temporal constraint or episode) that makes the
@@ -464,7 +485,7 @@ class Explainer {
       if (Check(with(*hint), nullptr, cap) == Verdict::kFeasible) good = *hint;
     }
     if (!good) {
-      Json w;
+      Witness w;
       if (Check(with(upper ? kMaxBound : 0), &w, cap) != Verdict::kFeasible) return;
       auto v = Realized(w, t[1], t[2]);
       if (!v) return;
@@ -503,7 +524,7 @@ class Explainer {
   }
 
   void Relax(const std::vector<std::string>& set, const std::optional<StaticConflict>& stat,
-             Json& out) {
+             std::vector<ExplanationRelaxation>& out) {
     std::vector<Candidate> cands;
     // The static check's least values (the bounds it no longer refutes) when it found the set.
     auto hint_for = [&](const std::string& bound) -> std::optional<double> {
@@ -529,7 +550,7 @@ class Explainer {
     std::stable_sort(cands.begin(), cands.end(),
                      [](const Candidate& a, const Candidate& b) { return a.size < b.size; });
     for (std::size_t k = 0; k < cands.size() && static_cast<int>(k) < eo_.max_relaxations; ++k)
-      out.push_back({{"changes", cands[k].changes}, {"text", cands[k].text}});
+      out.push_back({cands[k].changes, cands[k].text});
   }
 
   const Domain& d_;
@@ -551,12 +572,14 @@ class Explainer {
 
 }  // namespace
 
-Json Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so, const ExplainOptions& eo) {
+Explanation Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so,
+                    const ExplainOptions& eo) {
   try {
     return Explainer(d, sp, so, eo).Run();
   } catch (const std::exception& e) {  // never across the library boundary
-    return {{"conflicts", Json::array()}, {"relaxations", Json::array()}, {"status", "unknown"},
-            {"error", e.what()}};
+    Explanation out;
+    out.error = e.what();
+    return out;
   }
 }
 
@@ -576,8 +599,9 @@ std::string WhyPointer(const std::string& why) {
 // The explanation of an answer that no plan of the asked kind of controllability exists
 // (solve/controllable.cpp): each conflict the search learned, in words, and the relaxations it
 // checked by planning again.
-Json ControllabilityExplanation(const Json& c) {
-  Json conflicts = Json::array();
+Explanation ControllabilityExplanation(const Json& c) {
+  Explanation out;
+  out.status = ExplanationStatus::kControllability;
   std::set<std::string> texts;
   for (const Json& links : c.value("conflicts", Json::array())) {
     std::vector<std::string> durations, rules;
@@ -601,42 +625,40 @@ Json ControllabilityExplanation(const Json& c) {
       text += (i == 0 ? "" : i + 1 == rules.size() ? " and " : ", ") + rules[i];
     text += ", whatever is decided as they happen.";
     if (!texts.insert(text).second) continue;
-    conflicts.push_back({{"text", text}, {"constraints", Json(std::vector<std::string>(pointers.begin(), pointers.end()))}});
+    out.conflicts.push_back({std::vector<std::string>(pointers.begin(), pointers.end()), text, Json()});
   }
-  Json relaxations = Json::array();
   for (const Json& r : c.value("relaxations", Json::array()))
-    relaxations.push_back({{"text", r.value("text", "")}, {"changes", r.value("changes", Json::array())}});
-  return {{"status", "controllability"}, {"conflicts", conflicts}, {"relaxations", relaxations},
-          {"stats", {{"conflict_by", "controllability search"},
-                     {"ms", c.value("search", Json::object()).value("ms", 0)}}}};
+    out.relaxations.push_back({r.value("changes", Json::array()), r.value("text", "")});
+  out.stats = {{"conflict_by", "controllability search"},
+               {"ms", c.value("search", Json::object()).value("ms", 0)}};
+  return out;
 }
 
 }  // namespace
 
-void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so, Json& answer) {
-  if (!answer.is_object()) return;
-  answer["state_plan_summary"] = SummarizeStatePlan(d, sp);
-  const Json c = answer.value("controllability", Json::object());
-  if (answer.value("status", "") == "infeasible" &&
-      c.value("search", Json::object()).value("proven", false)) {
-    answer["explanation"] = ControllabilityExplanation(c);
-  } else if (answer.value("status", "") == "infeasible") {
+void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so,
+                    SolveResult& answer) {
+  answer.summary = SummarizeStatePlan(d, sp);
+  if (answer.status != Termination::kInfeasible) return;
+  const Json c = answer.controllability.value_or(Json::object());
+  if (c.value("search", Json::object()).value("proven", false)) {
+    answer.explanation = ControllabilityExplanation(c);
+  } else {
     ExplainOptions eo;
     eo.time_limit_ms = so.time_limit_ms;
-    answer["explanation"] = Explain(d, sp, so, eo);
+    answer.explanation = Explain(d, sp, so, eo);
   }
 }
 
-std::string DialogueNote(const Json& answer) {
-  if (!answer.is_object() || !answer.contains("explanation")) return "";
-  const Json& ex = answer["explanation"];
+std::string DialogueNote(const SolveResult& answer) {
+  if (!answer.explanation) return "";
+  const Explanation& ex = *answer.explanation;
   std::string note = "(planner) No plan meets this state plan.";
-  for (const auto& c : ex.value("conflicts", Json::array()))
-    note += " Conflict: " + c.value("text", "") + " (parts: " + c["constraints"].dump() + ")";
-  const Json relax = ex.value("relaxations", Json::array());
-  if (!relax.empty()) {
+  for (const auto& c : ex.conflicts)
+    note += " Conflict: " + c.text + " (parts: " + Json(c.constraints).dump() + ")";
+  if (!ex.relaxations.empty()) {
     note += " Each of these changes would make it possible:";
-    for (const auto& r : relax) note += " " + r.value("text", "") + " " + r["changes"].dump() + ";";
+    for (const auto& r : ex.relaxations) note += " " + r.text + " " + r.changes.dump() + ";";
   }
   return note;
 }

@@ -57,19 +57,20 @@ struct ExplainOptions {
   long relaxation_search_ms = 2000;
 };
 
-// The explanation object of an infeasible plan (see above). When the plan turns out feasible
+// The explanation of an infeasible plan (see above; ExplanationJson writes it). When the plan turns out feasible
 // (which the caller should not ask), the conflicts are empty.
-Json Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so,
-             const ExplainOptions& eo = {});
+Explanation Explain(const Domain& d, const StatePlan& sp, const SolveOptions& so,
+                    const ExplainOptions& eo = {});
 
-// Adds "state_plan_summary" to an answer of Solve(), and "explanation" when its status is
+// Adds the state plan's summary to an answer of Solve(), and the explanation when its status is
 // infeasible (with a time budget equal to the solve's own time limit).
-void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so, Json& answer);
+void AnnotateAnswer(const Domain& d, const StatePlan& sp, const SolveOptions& so,
+                    SolveResult& answer);
 
 // The explanation of an annotated answer in a few sentences for the LLM's next turn of a
 // dialogue ("The planner found this impossible: ... Possible changes: ..."); "" when the answer
 // has no explanation.
-std::string DialogueNote(const Json& answer);
+std::string DialogueNote(const SolveResult& answer);
 
 // The state plan with `changes` applied ([{"pointer", "value"}], as in a relaxation: a number
 // at a bound, or null to drop a part), checked again. nullopt with the errors in diags when a

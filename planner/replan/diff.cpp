@@ -25,7 +25,7 @@ Json ItemJson(const Item& i, const Json& before, const Json& after) {
 
 }  // namespace
 
-Json DiffAgainstPrevious(const Json& answer, const Domain& d, const Situation& s) {
+Json DiffAgainstPrevious(const Trajectory& plan, const Domain& d, const Situation& s) {
   using Key = std::tuple<std::string, std::string, std::string>;
   std::map<Key, std::vector<Item>> before, after;
   for (const auto& p : s.baseline) {
@@ -37,13 +37,19 @@ Json DiffAgainstPrevious(const Json& answer, const Domain& d, const Situation& s
     i.time = s.tps == 1 ? Json(p.time) : Json(i.t);
     before[{i.automaton, i.from, i.to}].push_back(i);
   }
-  if (answer.contains("transitions"))
-    for (const auto& j : answer["transitions"]) {
-      if (j.value("executed", false) || j.value("observed", false)) continue;
-      Item i{j.value("automaton", ""), j.value("from", ""), j.value("to", ""),
-             j.value("command", Json()), j["time"], j["time"].get<double>(), false};
-      after[{i.automaton, i.from, i.to}].push_back(i);
-    }
+  const int p = plan.history ? plan.history->events() : 0;
+  for (const auto& f : plan.fired) {
+    if (f.event <= p) continue;  // executed
+    const Automaton& au = d.automata[f.automaton];
+    const Transition& t = au.transitions[f.transition];
+    Item i{au.name, au.locations[t.from], au.locations[t.to], Json(), Json(), 0, false};
+    const int cmd = plan.commands[f.automaton][f.event - 1];
+    if (t.commanded && cmd > 0) i.command = au.commands[cmd - 1];
+    const long ticks = plan.events[f.event];
+    i.t = static_cast<double>(ticks) / static_cast<double>(s.tps);
+    i.time = s.tps == 1 ? Json(ticks) : Json(i.t);
+    after[{i.automaton, i.from, i.to}].push_back(i);
+  }
   Json kept = Json::array(), moved = Json::array(), added = Json::array(), dropped = Json::array();
   for (auto& [key, news] : after) {
     auto& olds = before[key];

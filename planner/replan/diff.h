@@ -7,10 +7,10 @@
 namespace ctb::replan {
 
 // {"kept", "moved", "added", "dropped"}: items {"automaton", "from", "to", "command"?,
-// "time_before"?, "time_after"?} keyed by (automaton, from, to). `answer` is a trajectory JSON;
-// its transitions not marked executed or observed are the future. Same key at the same time:
-// kept; the remaining ones of one key paired in time order: moved; the rest: added or dropped.
-Json DiffAgainstPrevious(const Json& answer, const Domain& d, const Situation& s);
+// "time_before"?, "time_after"?} keyed by (automaton, from, to). The plan's transitions after
+// the history are the future. Same key at the same time: kept; the remaining ones of one key
+// paired in time order: moved; the rest: added or dropped.
+Json DiffAgainstPrevious(const Trajectory& plan, const Domain& d, const Situation& s);
 
 // moved + added + dropped.
 long Changes(const Json& diff);

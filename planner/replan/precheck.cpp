@@ -87,11 +87,11 @@ struct PartHistory {
   bool done = false;       // it can be accepted within the history
   bool open_now = false;   // begun, not done, and still able to end in the future
   const Condition* other = nullptr;  // temporal: the condition still to come
-  std::optional<Json> broken;        // the conflict, when the history broke it
+  std::optional<ExplanationConflict> broken;  // the conflict, when the history broke it
 };
 
-Json Conflict(const std::string& pointer, const std::string& text, long at, long tps) {
-  return {{"constraints", {pointer}}, {"text", text}, {"broken_at", SecsJson(at, tps)}};
+ExplanationConflict Conflict(const std::string& pointer, const std::string& text, long at, long tps) {
+  return {{pointer}, text, SecsJson(at, tps)};
 }
 
 PartHistory TemporalHistory(const Temporal& tc, int q, const HistoryView& h, const Situation& s) {
@@ -170,8 +170,8 @@ PartHistory EpisodeHistory(const Episode& ep, int e, const HistoryView& h, const
 
 }  // namespace
 
-std::vector<Json> BrokenByHistory(const StatePlan& sp, const Situation& s) {
-  std::vector<Json> out;
+std::vector<ExplanationConflict> BrokenByHistory(const StatePlan& sp, const Situation& s) {
+  std::vector<ExplanationConflict> out;
   const HistoryView h(s.history);
   for (std::size_t q = 0; q < sp.temporals.size(); ++q)
     if (auto r = TemporalHistory(sp.temporals[q], static_cast<int>(q), h, s); r.broken)
@@ -303,7 +303,8 @@ std::optional<StatePlan> GoalOnly(const StatePlan& sp, const Situation& s) {
 
 }  // namespace
 
-std::optional<Json> GoalCutOff(const Domain& d, const StatePlan& sp, const Situation& s) {
+std::optional<ExplanationConflict> GoalCutOff(const Domain& d, const StatePlan& sp,
+                                              const Situation& s) {
   auto r = GoalOnly(sp, s);
   if (!r) return std::nullopt;
   auto conflict = [&](const Domain& dom) {
@@ -312,7 +313,7 @@ std::optional<Json> GoalCutOff(const Domain& d, const StatePlan& sp, const Situa
     return false;
   };
   if (!conflict(s.analysis_domain)) return std::nullopt;
-  Json pointers = {sp.goal.pointer};
+  std::vector<std::string> pointers = {sp.goal.pointer};
   std::string text;
   Domain model, analysis;
   BlockedDomains(d, {}, model, analysis);
@@ -341,7 +342,7 @@ std::optional<Json> GoalCutOff(const Domain& d, const StatePlan& sp, const Situa
       pointers.push_back(b.pointer);
     }
   }
-  return Json{{"constraints", pointers}, {"text", text}};
+  return ExplanationConflict{pointers, text, Json()};
 }
 
 ObjectiveBounds HistoryBounds(const StatePlan& sp, const Situation& s) {

@@ -8,18 +8,20 @@
 
 #include "planner/model/json_io.h"
 #include "planner/replan/situation.h"
+#include "planner/solve/solve_result.h"
 #include "planner/analyze/bounds.h"
 
 namespace ctb::replan {
 
 // Conflicts (section 9's shape plus "broken_at", seconds) for every episode, temporal constraint
 // or maintenance constraint the history has already broken; empty when none is certain.
-std::vector<Json> BrokenByHistory(const StatePlan& sp, const Situation& s);
+std::vector<ExplanationConflict> BrokenByHistory(const StatePlan& sp, const Situation& s);
 
 // When the goal can no longer be reached from the state at now (a static proof over the domain
 // without the blocked transitions): the conflict naming the goal and a minimal set of the
 // /blocked/k entries that cut it off (none when the goal is unreachable even without them).
-std::optional<Json> GoalCutOff(const Domain& d, const StatePlan& sp, const Situation& s);
+std::optional<ExplanationConflict> GoalCutOff(const Domain& d, const StatePlan& sp,
+                                              const Situation& s);
 
 // Lower bounds on the whole run's objective valid for every future given the history: the
 // history's cost plus the remaining problem's bounds from the state at now (time-shifted to the

@@ -69,19 +69,22 @@ Json Seconds(long ticks, long tps) {
   return static_cast<double>(ticks) / static_cast<double>(tps);
 }
 
-// An infeasible answer decided before any solve.
-Json Infeasible(Objective objective, const Json& conflicts, const Situation& s, long ms,
-                const std::string& why, int max_horizon) {
-  return {{"status", "infeasible"},
-          {"objective", {{"kind", ObjectiveName(objective)}, {"value", nullptr}}},
-          {"horizon", s.history.events()},
-          {"max_horizon", max_horizon},
-          {"verified", false},
-          {"explanation",
-           {{"conflicts", conflicts}, {"relaxations", Json::array()}, {"status", "minimal"}}},
-          {"stats",
-           {{"solver", why}, {"compile_ms", 0}, {"solve_ms", ms}, {"first_solution_ms", -1},
-            {"variables", 0}, {"solver_runs", 0}, {"history_events", s.history.events()}}}};
+// An infeasible answer decided before any solve: the history already broke the state plan, or
+// what is blocked cuts the goal off, whatever the number of events.
+SolveResult Infeasible(Objective objective, std::vector<ExplanationConflict> conflicts,
+                       const Situation& s, long ms, const std::string& why, int max_horizon) {
+  SolveResult r;
+  r.status = Termination::kInfeasible;
+  r.objective = objective;
+  r.ticks_per_second = s.tps;
+  r.horizon = s.history.events();
+  r.max_horizon = max_horizon;
+  r.scope = InfeasibleScope::kAnyHorizon;
+  r.explanation = Explanation{std::move(conflicts), {}, ExplanationStatus::kMinimal, std::nullopt,
+                              Json(), ""};
+  r.stats.solver = r.stats.proved_by = why;
+  r.stats.solve_ms = ms;
+  return r;
 }
 
 // keep "min_change": a second solve, among plans at most as good as the optimum, for the fewest
@@ -89,21 +92,20 @@ Json Infeasible(Objective objective, const Json& conflicts, const Situation& s, 
 // (the first-plan engine's optimum may have fewer events than the previous plan). Replaces the
 // answer's plan when it finds one with fewer changes.
 void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, const Situation& s,
-                     const SolveOptions& so, Objective objective, long time_left_ms, Json& ans) {
-  if (!ans.contains("transitions") || !ans["horizon"].is_number_integer() || time_left_ms <= 0)
-    return;
-  const int H = std::min(so.max_horizon, std::max(ans["horizon"].get<int>(),
+                     const SolveOptions& so, long time_left_ms, SolveResult& ans) {
+  if (!ans.plan || time_left_ms <= 0) return;
+  const Objective objective = ans.objective;
+  const int H = std::min(so.max_horizon, std::max(ans.plan->horizon,
                                                   s.history.events() + s.previous_future_events));
   ProblemInfo info = Analyze(md, sp);
   info.time_offset = s.history.now;
   auto [cf, mf] = ObjectiveFactors(objective, info.TimeBound(H));
-  const long makespan = std::lround(ans["goal_reached_at"].get<double>() * s.tps);
   EncodeOptions eo;
   eo.horizon = H;
   eo.objective = objective;
   eo.history = so.history.get();
   eo.minimize_changes = true;
-  eo.objective_at_most = ans["cost"].get<long>() * cf + makespan * mf;
+  eo.objective_at_most = ans.cost * cf + ans.makespan_ticks * mf;
   for (const auto& p : s.baseline)
     eo.baseline.emplace_back(info.transitions_of[p.automaton][p.transition], p.time);
   Encoding enc = Encode(md, sp, info, eo);
@@ -115,27 +117,22 @@ void MinimiseChanges(const Domain& md, const Domain& d, const StatePlan& sp, con
   req.memory_limit_mb = so.memory_limit_mb;
   req.cancel = so.cancel;
   RunResult r = DefaultBackend().Run(req);
-  ans["stats"]["min_change_status"] = RunStatusName(r.status);
+  ans.stats.extra["min_change_status"] = RunStatusName(r.status);
   if (!r.best) return;
   std::string why;
   auto traj = ExtractTrajectory(*r.best, md, sp, H, why);
   if (!traj) return;
   traj->history = so.history;
   if (!VerifyTrajectory(*traj, md, sp, s.tps).empty()) {
-    ans["stats"]["min_change_status"] = "unverified";  // never returned
+    ans.stats.extra["min_change_status"] = "unverified";  // never returned
     return;
   }
-  Json j = TrajectoryToJson(*traj, md, sp, s.tps);
-  const Json before = replan::DiffAgainstPrevious(ans, d, s);
-  const Json after = replan::DiffAgainstPrevious(j, d, s);
+  const Json before = replan::DiffAgainstPrevious(*ans.plan, d, s);
+  const Json after = replan::DiffAgainstPrevious(*traj, d, s);
   if (replan::Changes(after) >= replan::Changes(before)) return;
-  for (auto& [k, v] : j.items()) ans[k] = v;
-  const long cost = TrajectoryCost(*traj, md), ms = traj->events.back();
-  ans["cost"] = cost;
-  Json value = objective == Objective::kCost       ? Json(cost)
-               : objective == Objective::kMakespan ? Seconds(ms, s.tps)
-                                                   : Json{{"cost", cost}, {"makespan", Seconds(ms, s.tps)}};
-  ans["objective"]["value"] = value;
+  ans.cost = TrajectoryCost(*traj, md);
+  ans.makespan_ticks = traj->events[traj->goal_event];
+  ans.plan = std::move(*traj);
 }
 
 }  // namespace
@@ -146,8 +143,8 @@ std::optional<Error> CheckReplanRequest(const Domain& d, const StatePlan& sp,
   return replan::BuildSituation(d, sp, req, Keep::kNone, s);
 }
 
-std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const ReplanRequest& req,
-                                 const ReplanOptions& o) {
+std::variant<ReplanResult, Error> Replan(const Domain& d, const StatePlan& sp,
+                                         const ReplanRequest& req, const ReplanOptions& o) {
   const auto t0 = Clock::now();
   if (o.solve.horizon) {
     Diagnostics diags;
@@ -168,11 +165,17 @@ std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const Rep
   }
   const int max_h = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
   if (o.precheck) {
-    std::vector<Json> broken = replan::BrokenByHistory(sp, s);
-    if (!broken.empty())
-      return Infeasible(objective, broken, s, MsSince(t0), "history check", max_h);
-    if (auto cut = replan::GoalCutOff(d, sp, s))
-      return Infeasible(objective, Json::array({*cut}), s, MsSince(t0), "static analysis", max_h);
+    std::vector<ExplanationConflict> broken = replan::BrokenByHistory(sp, s);
+    auto early = [&](std::vector<ExplanationConflict> conflicts, const char* why) {
+      ReplanResult r;
+      r.answer = Infeasible(objective, std::move(conflicts), s, MsSince(t0), why, max_h);
+      r.answer.stats.extra["history_events"] = p;
+      r.now_ticks = s.history.now;
+      r.keep = o.keep;
+      return r;
+    };
+    if (!broken.empty()) return early(broken, "history check");
+    if (auto cut = replan::GoalCutOff(d, sp, s)) return early({*cut}, "static analysis");
   }
   SolveOptions so = o.solve;
   so.history = std::make_shared<const History>(s.history);
@@ -185,25 +188,44 @@ std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const Rep
   so.first_horizon = p + s.previous_future_events;
   auto solved = Solve(s.model_domain, sp, so);
   if (auto* e = std::get_if<Error>(&solved)) return *e;
-  Json ans = std::get<Json>(std::move(solved));
-  if (ans["status"] == "infeasible" && !ans.contains("explanation")) {
+  ReplanResult out;
+  out.answer = std::get<SolveResult>(std::move(solved));
+  SolveResult& ans = out.answer;
+  if (ans.status == Termination::kInfeasible && !ans.explanation) {
     std::string text = "no future from the state at t = " + Seconds(s.history.now, s.tps).dump() +
                        " s satisfies the state plan with at most " +
                        std::to_string(o.solve.max_horizon) + " more events";
     if (!s.history.keep_next.empty()) text += " (keep: started holds every started transition)";
-    Json conflicts = Json::array({{{"constraints", Json::array()}, {"text", text}}});
-    if (auto cut = replan::GoalCutOff(d, sp, s)) conflicts = Json::array({*cut});
-    ans["explanation"] = {{"conflicts", conflicts}, {"relaxations", Json::array()},
-                          {"status", conflicts[0]["constraints"].empty() ? "unknown" : "minimal"}};
+    ExplanationConflict conflict{{}, text, Json()};
+    if (auto cut = replan::GoalCutOff(d, sp, s)) conflict = *cut;
+    Explanation ex;
+    ex.status = conflict.constraints.empty() ? ExplanationStatus::kUnknown : ExplanationStatus::kMinimal;
+    ex.conflicts.push_back(std::move(conflict));
+    ans.explanation = std::move(ex);
   }
-  if (o.keep == Keep::kMinChange && s.have_previous && ans.contains("transitions"))
-    MinimiseChanges(s.model_domain, d, sp, s, so, objective, o.solve.time_limit_ms - MsSince(t0), ans);
-  ans["now"] = Seconds(s.history.now, s.tps);
-  ans["keep"] = KeepName(o.keep);
-  ans["stats"]["history_events"] = p;
-  if (ans.contains("transitions")) ans["diff"] = replan::DiffAgainstPrevious(ans, d, s);
-  ans["stats"]["solve_ms"] = MsSince(t0);
-  return ans;
+  if (o.keep == Keep::kMinChange && s.have_previous && ans.plan)
+    MinimiseChanges(s.model_domain, d, sp, s, so, o.solve.time_limit_ms - MsSince(t0), ans);
+  out.now_ticks = s.history.now;
+  out.keep = o.keep;
+  ans.stats.extra["history_events"] = p;
+  if (ans.plan) out.diff = replan::DiffAgainstPrevious(*ans.plan, d, s);
+  ans.stats.solve_ms = MsSince(t0);
+  return out;
+}
+
+Json ReplanJson(const ReplanResult& r, const Domain& d, const StatePlan& sp) {
+  Json out = ResultJson(r.answer, d, sp);
+  out["now"] = Seconds(r.now_ticks, r.answer.ticks_per_second);
+  out["keep"] = KeepName(r.keep);
+  if (r.diff) out["diff"] = *r.diff;
+  return out;
+}
+
+std::variant<Json, Error> ReplanDocument(const Domain& d, const StatePlan& sp,
+                                         const ReplanRequest& req, const ReplanOptions& o) {
+  auto r = Replan(d, sp, req, o);
+  if (auto* e = std::get_if<Error>(&r)) return *e;
+  return ReplanJson(std::get<ReplanResult>(r), d, sp);
 }
 
 }  // namespace ctb

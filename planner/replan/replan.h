@@ -5,9 +5,9 @@
 //
 // "Could not run" (a bad request, located by JSON pointers relative to the request body:
 // /executed/3/to, /observed/robot2/location, /blocked/0, /trajectory/transitions/2/from, /now) is
-// an Error; "ran and answered" is the trajectory JSON of section 5 with the history's transitions
-// marked "executed": true, observations that no transition explains as transitions marked
-// "observed": true, `now`, and `diff` (the future's transitions against the previous plan's at or
+// an Error; "ran and answered" is a ReplanResult, written as the trajectory JSON of section 5 with
+// the history's transitions marked "executed": true, observations that no transition explains as
+// transitions marked "observed": true, `now`, and `diff` (the future's transitions against the previous plan's at or
 // after now). Never throws. Thread-safe: calls share nothing. docs/replanning.md says what is
 // assumed about the history and what `optimal` means.
 #pragma once
@@ -56,8 +56,25 @@ struct ReplanOptions {
 // options.keep into *keep when given). Unknown fields are the caller's business.
 std::optional<Error> ReadReplanRequest(const Json& body, ReplanRequest& out, Keep* keep);
 
-std::variant<Json, Error> Replan(const Domain& d, const StatePlan& sp, const ReplanRequest& req,
-                                 const ReplanOptions& o);
+// A replan's answer: the solve's, whose plan begins with the history, and what replanning adds.
+struct ReplanResult {
+  SolveResult answer;
+  long now_ticks = 0;
+  Keep keep = Keep::kNone;
+  // With a plan: the future's transitions against the previous plan's at or after now,
+  // {"kept", "moved", "added", "dropped"}.
+  std::optional<Json> diff;
+};
+
+// The answer as the contract's document: the trajectory (section 5) with `now`, `keep`, `diff`.
+Json ReplanJson(const ReplanResult& r, const Domain& d, const StatePlan& sp);
+
+std::variant<ReplanResult, Error> Replan(const Domain& d, const StatePlan& sp,
+                                         const ReplanRequest& req, const ReplanOptions& o);
+
+// Replan's answer written by ReplanJson, for local callers that want the document (tests, tools).
+std::variant<Json, Error> ReplanDocument(const Domain& d, const StatePlan& sp,
+                                         const ReplanRequest& req, const ReplanOptions& o);
 
 // Checks the request against the domain and state plan as Replan does, without solving: every
 // error at its pointer, or nullopt.

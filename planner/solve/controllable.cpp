@@ -86,13 +86,13 @@ Json MergedRelaxations(const Json& candidates) {
 }
 
 // The answer when every plan within the horizon was cut: infeasible, for the asked kind.
-void NothingLeft(Json& doc, const Search& s, const Json& conflicts, const Json& candidates,
+void NothingLeft(SolveResult& doc, const Search& s, const Json& conflicts, const Json& candidates,
                  int cuts, Clock::time_point t0) {
   const Controllability asked = Asked(s.d, s.o);
   const char* kind = asked == Controllability::kStrong ? "strongly" : "dynamically";
-  doc["status"] = "infeasible";
-  doc["infeasible_for"] = "max_horizon";
-  doc["message"] = std::string("no plan within the horizon is ") + kind +
+  doc.status = Termination::kInfeasible;
+  doc.scope = InfeasibleScope::kMaxHorizon;
+  doc.message = std::string("no plan within the horizon is ") + kind +
                    " controllable: every plan the search found broke on a conflict of its uncertain "
                    "durations (" + std::to_string(cuts) + " cut)";
   Json c = {{"asked", ControllabilityName(asked)}, {"met", false},
@@ -101,7 +101,7 @@ void NothingLeft(Json& doc, const Search& s, const Json& conflicts, const Json& 
   // Each makes a cut plan dynamically controllable: offered when that is what was asked.
   c["relaxations"] =
       asked == Controllability::kStrong ? Json::array() : MergedRelaxations(candidates);
-  doc["controllability"] = std::move(c);
+  doc.controllability = std::move(c);
 }
 
 // One round of the search: the best plan the cuts leave, its network checked (AddFlexibility).
@@ -110,7 +110,7 @@ void NothingLeft(Json& doc, const Search& s, const Json& conflicts, const Json& 
 // it is). A plan of the asked kind, or none, is looked for again with the whole time left, so
 // that `optimal` and `infeasible` keep their meaning.
 struct Round {
-  std::variant<Json, Error> answer;
+  std::variant<SolveResult, Error> answer;
   FlexibleOutcome outcome;
   bool checked = false;  // a verified plan whose network was derived and checked
 };
@@ -119,17 +119,18 @@ class Searcher {
  public:
   explicit Searcher(const Search& s) : s_(s), current_(s.sp) {}
 
-  std::variant<Json, Error> Run() {
+  std::variant<SolveResult, Error> Run() {
     for (int cuts = 0;; ++cuts) {
       Round r = Solve(cuts > 0);
-      Json* doc = std::get_if<Json>(&r.answer);
+      SolveResult* doc = std::get_if<SolveResult>(&r.answer);
       if (!doc && first_) return Fallback(cuts, "the solver failed: " + std::get<Error>(r.answer).message);
       if (!doc) return std::move(r.answer);
       if (!r.checked) return Unplanned(std::move(r.answer), cuts);
       for (const PlanCut& cut : current_.cuts)
         if (flexible::CutMatches(cut, plan_, s_.sp))
           return InternalError("the search among plans found a plan it had cut");
-      Json& c = (*doc)["controllability"];
+      if (!doc->controllability) doc->controllability = Json::object();
+      Json& c = *doc->controllability;
       const bool unmet = !r.outcome.met;
       const bool again = unmet && !r.outcome.conflict.empty() && r.outcome.plan;
       std::optional<PlanCut> cut;
@@ -176,29 +177,27 @@ class Searcher {
       SolveOptions quick = o;
       quick.time_limit_ms = kQuickMs;
       Round r = Check(s_.fixed(s_.d, current_, quick), quick);
-      const Json* doc = std::get_if<Json>(&r.answer);
-      const std::string status = doc ? doc->value("status", "") : "";
-      const bool proven = status == "optimal" || status == "infeasible";
-      if (!doc || proven || (r.checked && !r.outcome.met)) return r;
+      const SolveResult* doc = std::get_if<SolveResult>(&r.answer);
+      if (!doc || Proven(doc->status) || (r.checked && !r.outcome.met)) return r;
       o.time_limit_ms = std::max(1L, Left());
     }
     return Check(s_.fixed(s_.d, current_, o), o);
   }
 
-  Round Check(std::variant<Json, Error> answer, const SolveOptions& o) {
+  Round Check(std::variant<SolveResult, Error> answer, const SolveOptions& o) {
     Round r{std::move(answer), {}, false};
-    Json* doc = std::get_if<Json>(&r.answer);
-    if (!doc || !doc->value("verified", false) || !o.derive_network) return r;
+    SolveResult* doc = std::get_if<SolveResult>(&r.answer);
+    if (!doc || !doc->verified() || !o.derive_network) return r;
     r.outcome = AddFlexibility(*doc, plan_, s_.d, s_.sp, o);
     r.checked = true;
     return r;
   }
 
   // No plan (or no network asked for): after cuts, infeasible means none of the asked kind.
-  std::variant<Json, Error> Unplanned(std::variant<Json, Error> answer, int cuts) {
-    Json& doc = std::get<Json>(answer);
-    const bool verified = doc.value("verified", false);
-    if (cuts > 0 && doc.value("status", "") == "infeasible") {
+  std::variant<SolveResult, Error> Unplanned(std::variant<SolveResult, Error> answer, int cuts) {
+    SolveResult& doc = std::get<SolveResult>(answer);
+    const bool verified = doc.verified();
+    if (cuts > 0 && doc.status == Termination::kInfeasible) {
       NothingLeft(doc, s_, conflicts_, candidates_, cuts, t0_);
     } else if (cuts > 0 && first_) {
       return Fallback(cuts, "time");
@@ -209,12 +208,14 @@ class Searcher {
 
   // The search ended without a plan of the asked kind and without a proof that none exists: the
   // answer is the best plan found (the first), unknown, with what the search did.
-  std::variant<Json, Error> Fallback(int cuts, const std::string& stop) {
-    Json doc = std::move(first_->answer);
-    Json& c = doc["controllability"];
+  std::variant<SolveResult, Error> Fallback(int cuts, const std::string& stop) {
+    SolveResult doc = std::move(first_->answer);
+    if (!doc.controllability) doc.controllability = Json::object();
+    Json& c = *doc.controllability;
     c["search"] = {{"plans_cut", cuts}, {"ms", MsSince(t0_)}, {"stopped", stop}};
     c["conflicts"] = conflicts_;
-    doc["message"] = doc.value("message", std::string("the plan found is not of the asked kind")) +
+    doc.message = (doc.message.empty() ? std::string("the plan found is not of the asked kind")
+                                       : doc.message) +
                      "; the search among plans cut it and " + std::to_string(cuts - 1) +
                      " more that were not either, then stopped (" + stop + "): this is the first";
     if (s_.o.plan_out) *s_.o.plan_out = std::move(first_->plan);
@@ -222,7 +223,7 @@ class Searcher {
   }
 
   struct Kept {
-    Json answer;
+    SolveResult answer;
     Trajectory plan;
   };
   std::optional<Kept> first_;  // the first plan, not of the asked kind
@@ -234,12 +235,12 @@ class Searcher {
   Json conflicts_ = Json::array(), candidates_ = Json::array();
 };
 
-std::variant<Json, Error> Run(const Search& s) { return Searcher(s).Run(); }
+std::variant<SolveResult, Error> Run(const Search& s) { return Searcher(s).Run(); }
 
 }  // namespace
 
-std::variant<Json, Error> SolveControllable(const Domain& d, const StatePlan& sp,
-                                            const SolveOptions& o, const FixedSolve& fixed) {
+std::variant<SolveResult, Error> SolveControllable(const Domain& d, const StatePlan& sp,
+                                                   const SolveOptions& o, const FixedSolve& fixed) {
   return Run(Search{d, sp, o, fixed});
 }
 

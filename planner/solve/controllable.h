@@ -14,14 +14,14 @@
 namespace ctb::solve {
 
 // Solves `sp` on the domain as written (the callback plans for its worst case).
-using FixedSolve = std::function<std::variant<Json, Error>(const Domain& d, const StatePlan& sp,
-                                                           const SolveOptions& o)>;
+using FixedSolve = std::function<std::variant<SolveResult, Error>(
+    const Domain& d, const StatePlan& sp, const SolveOptions& o)>;
 
 // Plans, checks the plan's network, and while it is not of the asked kind cuts the conflict
 // (flexible/cut.h) and plans again: the first plan of the asked kind is the best such plan (cuts
 // remove only plans that are not). When nothing is left: `infeasible` with every conflict learned
 // and the relaxations that, planned again, give a plan of the asked kind.
-std::variant<Json, Error> SolveControllable(const Domain& d, const StatePlan& sp,
-                                            const SolveOptions& o, const FixedSolve& fixed);
+std::variant<SolveResult, Error> SolveControllable(const Domain& d, const StatePlan& sp,
+                                                   const SolveOptions& o, const FixedSolve& fixed);
 
 }  // namespace ctb::solve

@@ -132,20 +132,20 @@ Controllability Asked(const Domain& d, const SolveOptions& o) {
   return d.HasContingent() ? Controllability::kDynamic : Controllability::kNone;
 }
 
-FlexibleOutcome AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d,
+FlexibleOutcome AddFlexibility(SolveResult& answer, const Trajectory& plan, const Domain& d,
                                const StatePlan& sp, const SolveOptions& o) {
   FlexibleOutcome outcome;
   std::string why;
   auto f = flexible::DeriveNetwork(plan, d, sp, std::lround(1.0 / d.time_resolution), &why);
   if (!f) {
-    answer["network"] = nullptr;
-    answer["controllability"] = {{"note", why}};
+    answer.network = Json();
+    answer.controllability = Json{{"note", why}};
     return outcome;
   }
-  answer["network"] = network::NetworkToJson(f->net);
-  if (f->rigid) answer["network"]["rigid"] = f->rigid_reason;
+  answer.network = network::NetworkToJson(f->net);
+  if (f->rigid) (*answer.network)["rigid"] = f->rigid_reason;
   auto windows = flexible::Windows(f->net);
-  answer["slack"] = windows ? flexible::SlackJson(*windows) : Json::array();
+  answer.slack = windows ? flexible::SlackJson(*windows) : Json::array();
   const network::CheckResult check = network::CheckNetwork(f->net);
   Json c = {{"strong", check.strong}, {"dynamic", check.dynamic},
             {"ms", std::round(check.ms * 1000) / 1000}};
@@ -171,12 +171,12 @@ FlexibleOutcome AddFlexibility(Json& answer, const Trajectory& plan, const Domai
     // A plan of another kind is no answer to the request: say which rule it breaks. The search
     // among plans stops at the first (docs/uncertainty.md), so nothing is proven: unknown.
     c["met"] = false;
-    answer["status"] = "unknown";
-    answer["message"] = std::string("the plan found is not ") +
+    answer.status = Termination::kUnknown;
+    answer.message = std::string("the plan found is not ") +
                         (asked == Controllability::kStrong ? "strongly" : "dynamically") +
                         " controllable: some outcome of its contingent durations breaks it";
   }
-  answer["controllability"] = std::move(c);
+  answer.controllability = std::move(c);
   outcome.met = met;
   outcome.plan = std::move(f);
   return outcome;

@@ -23,7 +23,7 @@ struct FlexibleOutcome {
 };
 
 // `d` is the domain as written (contingent transitions marked); `plan` the answer's verified plan.
-FlexibleOutcome AddFlexibility(Json& answer, const Trajectory& plan, const Domain& d,
+FlexibleOutcome AddFlexibility(SolveResult& answer, const Trajectory& plan, const Domain& d,
                                const StatePlan& sp, const SolveOptions& o);
 
 // The kind of plan asked for, kAuto resolved by the domain.

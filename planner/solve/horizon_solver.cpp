@@ -47,20 +47,20 @@ class Solver {
     return Outcome2Refutation(r);
   }
 
-  Core Stats() const { return error_ ? Fail() : Finish("unknown"); }
+  Core Stats() const { return error_ ? Fail() : Finish(Termination::kUnknown); }
 
   Core Run() {
     // An incumbent that meets a bound every plan obeys is optimal at once.
-    if (best_ && MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
+    if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
     if (o_.horizon) {
       // With an incumbent, "infeasible" here means: nothing better at this horizon.
       auto r = Attempt(*o_.horizon, best_);
       if (error_) return Fail();
-      if (best_ && MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
+      if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
       if (r == Outcome::kOptimal || (r == Outcome::kInfeasible && best_))
-        return Proved("optimal", decider_);
-      if (r == Outcome::kInfeasible) return Proved("infeasible", decider_);
-      return Finish(best_ ? "feasible" : "unknown");
+        return Proved(Termination::kOptimal, decider_);
+      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, decider_);
+      return Finish(best_ ? Termination::kFeasible : Termination::kUnknown);
     }
     // Grow the horizon until a plan (better than the incumbent, if any) exists.
     int h = std::max(LowerBound(), std::min(o_.first_horizon, o_.max_horizon));
@@ -77,25 +77,25 @@ class Solver {
       h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
     }
     if (!best_) {
-      if (r == Outcome::kInfeasible) return Proved("infeasible", decider_);
-      return Finish("unknown");
+      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, decider_);
+      return Finish(Termination::kUnknown);
     }
-    if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
-    if (r == Outcome::kInfeasible) return Proved("optimal", decider_);  // the incumbent
-    if (r != Outcome::kOptimal) return Finish("feasible");
+    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+    if (r == Outcome::kInfeasible) return Proved(Termination::kOptimal, decider_);  // the incumbent
+    if (r != Outcome::kOptimal) return Finish(Termination::kFeasible);
     // A plan that meets a bound every plan obeys is optimal whatever the number of events.
-    if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
+    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
     // Close optimality over every plan with at most max_horizon events. The horizon doubles on
     // the way: a better plan found at a smaller horizon (a smaller model) may meet the bound and
     // end the search. Invariant: no plan better than best_ has at most `closed` events.
     for (int closed = horizon_;;) {
       const int need = std::min(EventsForBetter(*best_), o_.max_horizon);
-      if (need <= closed) return Proved("optimal", decider_);
+      if (need <= closed) return Proved(Termination::kOptimal, decider_);
       const int next = std::min(need, std::max(closed + 1, 2 * closed));
       r = Attempt(next, best_);
       if (error_) return Fail();
-      if (MeetsLowerBound(*best_)) return Proved("optimal", "lower bound");
-      if (r != Outcome::kOptimal && r != Outcome::kInfeasible) return Finish("feasible");
+      if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+      if (r != Outcome::kOptimal && r != Outcome::kInfeasible) return Finish(Termination::kFeasible);
       closed = next;
     }
   }
@@ -147,17 +147,17 @@ class Solver {
     SolverBackend* backend;
   };
 
-  // A search that names an engine: it alone; "portfolio" (and z3 where it cannot take the
-  // problem: a history, or actions ordered or forbidden): the first `portfolio` members of the
-  // table, z3 left out where it cannot take the problem.
+  // A search that names an engine: it alone; "portfolio" (and an engine that cannot take the
+  // problem, engines.h Takes: z3 with a history or action rules): the first `portfolio` members
+  // of the table that can.
   std::vector<Member> Members() const {
     SolverBackend& gecode = Backend();
     const Engine* alone = FindEngine(o_.search);
-    const bool no_z3 = o_.history || sp_.HasActionRules();
-    if (alone && !(alone->z3 && no_z3)) return {{alone, &BackendOf(*alone, gecode)}};
+    const bool history = o_.history != nullptr, rules = sp_.HasActionRules();
+    if (alone && Takes(*alone, history, rules)) return {{alone, &BackendOf(*alone, gecode)}};
     std::vector<Member> all;
     for (const auto& e : Engines())
-      if (e.in_portfolio && !(e.z3 && no_z3)) all.push_back({&e, &BackendOf(e, gecode)});
+      if (e.in_portfolio && Takes(e, history, rules)) all.push_back({&e, &BackendOf(e, gecode)});
     all.resize(std::min<std::size_t>(all.size(), std::max(1, o_.portfolio)));
     return all;
   }
@@ -176,31 +176,31 @@ class Solver {
     std::atomic<bool> stop{false};
     long remaining = o_.time_limit_ms - MsSince(t0_);
     for (std::size_t i = 0; i < members.size(); ++i) {
-      const bool z3 = members[i].engine->z3;
+      const bool own_model = !members[i].engine->reads_model_text;
       EncodeOptions eo;
       eo.horizon = h;
       eo.objective = objective_;
-      eo.search = ModelStrategy(*members[i].engine);
+      eo.search = members[i].engine->model_strategy;
       eo.redundant = o_.redundant;
       eo.symmetry = o_.symmetry;
       eo.better_than = BetterThan(h, better);
       eo.at_least = AtLeast(h);
       eo.idle_events = o_.idle_events;
       eo.history = o_.history.get();
-      if (i == 0 || !z3) {  // z3 builds its own model; the text is kept for failure reports
+      if (i == 0 || !own_model) {  // z3 builds its own; the first text is kept for reports
         Encoding enc = Encode(d_, sp_, info_, eo);
         if (i == 0) {
           last_model_ = enc.model;
           last_data_ = enc.data;
           WriteModelOut();
         }
-        if (!z3) {
+        if (!own_model) {
           reqs[i].model = std::move(enc.model);
           reqs[i].data = std::move(enc.data);
         }
       }
       specs[i] = ModelSpec{&d_, &sp_, &info_, eo};
-      if (z3) reqs[i].spec = &specs[i];
+      if (own_model) reqs[i].spec = &specs[i];
       reqs[i].time_limit_ms = remaining;
       reqs[i].minizinc = o_.minizinc;
       reqs[i].memory_limit_mb = o_.memory_limit_mb;
@@ -364,7 +364,7 @@ class Solver {
     return dir;
   }
 
-  Core Finish(const std::string& status) const {
+  Core Finish(Termination status) const {
     Core c;
     c.status = status;
     c.best = best_;
@@ -377,13 +377,13 @@ class Solver {
     c.found_by = best_ ? found_by_ : "";
     return c;
   }
-  Core Proved(const std::string& status, const std::string& by) const {
+  Core Proved(Termination status, const std::string& by) const {
     Core c = Finish(status);
     c.proved_by = by;
     return c;
   }
   Core Fail() const {
-    Core c = Finish("unknown");
+    Core c = Finish(Termination::kUnknown);
     c.error = error_;
     return c;
   }

@@ -22,7 +22,7 @@ struct Plan {
 
 // What one solve found, before it is turned into the answer JSON.
 struct Core {
-  std::string status = "unknown";
+  Termination status = Termination::kUnknown;
   std::optional<Plan> best;
   int horizon = 0;
   int runs = 0;

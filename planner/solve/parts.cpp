@@ -70,7 +70,7 @@ std::optional<Core> SolveAlone(const SubProblem& part, const SolveOptions& po,
   SolveOptions o = po;
   o.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
   Core c = SolveOneModel(part.domain, part.plan, o);
-  if (c.error || c.status != "infeasible") return c;
+  if (c.error || c.status != Termination::kInfeasible) return c;
   SolveOptions relaxed = o;
   relaxed.idle_events = true;
   relaxed.time_limit_ms = std::max(1L, time_limit_ms - MsSince(t0));
@@ -78,7 +78,7 @@ std::optional<Core> SolveAlone(const SubProblem& part, const SolveOptions& po,
   c.runs += r.runs;
   AddEngine(c.engine, r.engine);
   if (r.error) return r;
-  if (r.status == "infeasible") return c;
+  if (r.status == Termination::kInfeasible) return c;
   why = "a part is infeasible alone but not with other parts' events";
   return std::nullopt;
 }
@@ -100,7 +100,7 @@ bool ProveAgainstRelaxedRuns(const SubProblem& part, const SolveOptions& po, Clo
     return true;
   }
   if (r == Refutation::kBetterExists) return false;
-  if (r == Refutation::kUnknown) c.status = "feasible";
+  if (r == Refutation::kUnknown) c.status = Termination::kFeasible;
   return true;
 }
 
@@ -125,7 +125,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   std::map<std::string, Core> solved;
   std::map<std::string, const SubProblem*> first_of;
   Core total;
-  total.status = "optimal";
+  total.status = Termination::kOptimal;
   int reused = 0;
   for (const auto& part : parts) {
     std::string key = CanonicalForm(part.domain, part.plan, objective);
@@ -144,8 +144,8 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
     AddEngine(total.engine, c->engine);
     total.variables += c->variables;
     stats["parts_reused"] = reused;
-    if (c->status == "infeasible" || !c->best) {
-      total.status = c->status == "infeasible" ? "infeasible" : "unknown";
+    if (c->status == Termination::kInfeasible || !c->best) {
+      total.status = c->status == Termination::kInfeasible ? Termination::kInfeasible : Termination::kUnknown;
       return total;
     }
     solved[key] = std::move(*c);
@@ -158,7 +158,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   long latest = 0;
   for (auto& [key, c] : solved) latest = std::max(latest, c.best->makespan);
   for (auto& [key, c] : solved) {
-    if (c.status != "optimal") continue;
+    if (c.status != Termination::kOptimal) continue;
     if (objective == Objective::kMakespan && c.best->makespan < latest) continue;
     const SubProblem& part = *first_of[key];
     if (MeetsLowerBounds(LowerBounds(part.domain, part.plan), objective, c.best->cost,
@@ -171,7 +171,7 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
   std::vector<Trajectory> plans;
   for (const auto& key : keys) {
     const Core& c = solved[key];
-    if (c.status != "optimal") total.status = "feasible";
+    if (c.status != Termination::kOptimal) total.status = Termination::kFeasible;
     plans.push_back(c.best->traj);
   }
   Trajectory merged = MergeTrajectories(parts, plans, d, sp);

@@ -54,12 +54,14 @@ PlanCheck CheckPlanAgainst(const Trajectory& t, const Domain& d, const StatePlan
   o.on_progress = nullptr;
   o.model_out.clear();
   auto r = Solve(d, sp, o);
-  const Json* doc = std::get_if<Json>(&r);
-  if (!doc) return PlanCheck::kUnknown;
-  const std::string status = doc->value("status", "");
-  if (status == "optimal" || status == "feasible")
-    return doc->value("verified", false) ? PlanCheck::kValid : PlanCheck::kUnknown;
-  if (status == "infeasible") return PlanCheck::kInvalid;
+  const SolveResult* res = std::get_if<SolveResult>(&r);
+  if (!res) return PlanCheck::kUnknown;
+  switch (res->status) {
+    case Termination::kOptimal:
+    case Termination::kFeasible: return res->verified() ? PlanCheck::kValid : PlanCheck::kUnknown;
+    case Termination::kInfeasible: return PlanCheck::kInvalid;
+    case Termination::kUnknown: return PlanCheck::kUnknown;
+  }
   return PlanCheck::kUnknown;
 }
 

@@ -43,63 +43,44 @@ void WriteModelOut(const Domain& d, const StatePlan& sp, const SolveOptions& o, 
   std::ofstream(o.model_out + ".json") << enc.data.dump(1) << "\n";
 }
 
-Json AnswerJson(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
-                int max_horizon, long elapsed_ms, const Json& extra_stats,
-                const std::string& solver_name,
-                const std::optional<ObjectiveBounds>& bounds = std::nullopt,
-                Trajectory* plan_out = nullptr) {
-  const long tps = std::lround(1.0 / d.time_resolution);
+SolveResult ResultOf(const Domain& d, const StatePlan& sp, Objective objective, const Core& c,
+                     int max_horizon, long elapsed_ms, const Json& extra_stats,
+                     const std::string& solver_name,
+                     const std::optional<ObjectiveBounds>& bounds = std::nullopt,
+                     Trajectory* plan_out = nullptr) {
+  SolveResult r;
+  r.status = c.status;
+  r.objective = objective;
+  r.ticks_per_second = std::lround(1.0 / d.time_resolution);
   if (plan_out && c.best) *plan_out = c.best->traj;
-  Json out;
-  out["status"] = c.status;
-  auto seconds = [&](long ticks) {
-    return tps == 1 ? Json(ticks) : Json(static_cast<double>(ticks) / static_cast<double>(tps));
-  };
-  Json value;
   if (c.best) {
-    switch (objective) {
-      case Objective::kCost: value = c.best->cost; break;
-      case Objective::kMakespan: value = seconds(c.best->makespan); break;
-      case Objective::kCostThenMakespan:
-        value = {{"cost", c.best->cost}, {"makespan", seconds(c.best->makespan)}};
-        break;
-    }
+    r.plan = c.best->traj;
+    r.cost = c.best->cost;
+    r.makespan_ticks = c.best->makespan;
   }
-  out["objective"] = {{"kind", ObjectiveName(objective)}, {"value", value}};
-  if (c.best) {
-    out["cost"] = c.best->cost;
-    Json traj = TrajectoryToJson(c.best->traj, d, sp, tps);
-    for (auto& [k, v] : traj.items()) out[k] = v;
-  } else {
-    out["horizon"] = c.horizon;
-  }
-  out["max_horizon"] = max_horizon;
-  if (c.status == "feasible") {
-    // How far from optimal the plan may be: a bound every plan obeys.
-    out["bound"] = BoundJson(bounds ? *bounds : LowerBounds(d, sp), objective, tps);
-  }
-  out["verified"] = c.best.has_value();
-  // Which engine found the plan and what proved the status (null: nothing / not proven).
+  r.horizon = c.horizon;
+  r.max_horizon = max_horizon;
+  // How far from optimal the plan may be: a bound every plan obeys.
+  if (c.status == Termination::kFeasible)
+    r.bound = BoundValue(bounds ? *bounds : LowerBounds(d, sp), objective, r.ticks_per_second);
+  // Which engine found the plan and what proved the status.
   const std::string engine = c.engine.empty() ? solver_name : c.engine;
-  const bool proven = c.status == "optimal" || c.status == "infeasible";
-  const std::string found_by = c.found_by.empty() ? engine : c.found_by;
-  const std::string proved_by = c.proved_by.empty() ? engine : c.proved_by;
-  out["stats"] = {{"solver", engine},
-                  {"found_by", c.best ? Json(found_by) : Json()},
-                  {"proved_by", proven ? Json(proved_by) : Json()},
-                  {"compile_ms", c.compile_ms},
-                  {"solve_ms", elapsed_ms},
-                  {"first_solution_ms", c.first_solution_ms},
-                  {"variables", c.variables},
-                  {"solver_runs", c.runs}};
-  for (auto& [k, v] : extra_stats.items()) out["stats"][k] = v;
-  return out;
+  r.stats.solver = engine;
+  r.stats.found_by = c.found_by.empty() ? engine : c.found_by;
+  r.stats.proved_by = c.proved_by.empty() ? engine : c.proved_by;
+  r.stats.compile_ms = c.compile_ms;
+  r.stats.solve_ms = elapsed_ms;
+  r.stats.first_solution_ms = c.first_solution_ms;
+  r.stats.variables = c.variables;
+  r.stats.solver_runs = c.runs;
+  r.stats.extra = extra_stats;
+  return r;
 }
 
 // A solver's infeasible holds for at most max_horizon events (the horizon search's bound).
-Json WithScope(Json out) {
-  if (out.value("status", "") == "infeasible") out["infeasible_for"] = "max_horizon";
-  return out;
+SolveResult WithScope(SolveResult r) {
+  if (r.status == Termination::kInfeasible) r.scope = InfeasibleScope::kMaxHorizon;
+  return r;
 }
 
 }  // namespace
@@ -189,17 +170,17 @@ Domain WithoutForbidden(const Domain& d, const StatePlan& sp) {
 }
 
 // Solve with every duration the planner's or fixed (no contingent transition left in d).
-std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
                                      const Domain* analysis = nullptr);
 
-std::variant<Json, Error> SolveForbidding(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+std::variant<SolveResult, Error> SolveForbidding(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   const Domain without = WithoutForbidden(d, sp);
   SolveOptions with = o;
   with.bounds = LowerBounds(without, sp);
   return SolveFixed(d, sp, with, &without);
 }
 
-std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
                                      const Domain* analysis) {
   if (!analysis && !sp.forbidden.empty() && !o.bounds && !o.history) return SolveForbidding(d, sp, o);
   if (auto e = ValidateSolveOptions(o)) return *e;
@@ -216,10 +197,10 @@ std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const
     // the runs, so a conflict holds whatever the horizon.
     if (auto conflict = FindStaticConflict(analysis ? *analysis : d, sp)) {
       Core c;
-      c.status = "infeasible";
+      c.status = Termination::kInfeasible;
       stats["static_conflict"] = conflict->text;
-      Json out = AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
-      out["infeasible_for"] = "any_horizon";
+      SolveResult out = ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
+      out.scope = InfeasibleScope::kAnyHorizon;
       return out;
     }
   }
@@ -242,23 +223,22 @@ std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const
   }
   if (meets_bound) {
     Core c;
-    c.status = "optimal";
+    c.status = Termination::kOptimal;
     c.best = incumbent;
     c.horizon = incumbent->traj.goal_event;
     c.first_solution_ms = found_ms;
     c.engine = c.found_by = "heuristic";
     c.proved_by = "lower bound";
     WriteModelOut(d, sp, o, objective, c.horizon);
-    return AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds,
-                      o.plan_out);
+    return ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
     if (c && c->error) return *c->error;
     if (c) {
       WriteModelOut(d, sp, o, objective, c->best ? c->best->traj.goal_event : c->horizon);
-      return WithScope(AnswerJson(d, sp, objective, *c, max_h, MsSince(t0), stats, solver,
-                                  std::nullopt, o.plan_out));
+      return WithScope(ResultOf(d, sp, objective, *c, max_h, MsSince(t0), stats, solver,
+                                std::nullopt, o.plan_out));
     }
   }
   SolveOptions mono = o;
@@ -275,7 +255,7 @@ std::variant<Json, Error> SolveFixed(const Domain& d, const StatePlan& sp, const
   if (c.first_solution_ms >= 0) c.first_solution_ms += offset;
   if (found_ms >= 0) c.first_solution_ms = found_ms;
   return WithScope(
-      AnswerJson(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out));
+      ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out));
 }
 
 }  // namespace
@@ -301,13 +281,19 @@ std::optional<Controllability> ParseControllability(const std::string& s) {
 // controllability "none", as the planner's choice; the plan's network then carries them as
 // contingent links (planner/flexible, solve/flexible_answer.cpp).
 // A plan that is not of the asked kind is cut and the next best one planned (solve/controllable.h).
-std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+std::variant<SolveResult, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   const solve::FixedSolve fixed = [](const Domain& written, const StatePlan& s,
-                                     const SolveOptions& so) -> std::variant<Json, Error> {
+                                     const SolveOptions& so) -> std::variant<SolveResult, Error> {
     if (!written.HasContingent()) return SolveFixed(written, s, so);
     return SolveFixed(PlanningDomain(written, so.controllability == Controllability::kNone), s, so);
   };
   return solve::SolveControllable(d, sp, o, fixed);
+}
+
+std::variant<Json, Error> SolveDocument(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
+  auto r = Solve(d, sp, o);
+  if (auto* e = std::get_if<Error>(&r)) return *e;
+  return ResultJson(std::get<SolveResult>(r), d, sp);
 }
 
 }  // namespace ctb

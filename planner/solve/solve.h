@@ -2,8 +2,8 @@
 // independent verification (contract sections 2, 3, 5).
 //
 // "Could not run" (bad options, a solver failure, a trajectory that fails verification) is an
-// Error; "ran and answered" is a trajectory JSON whose status is optimal, feasible, infeasible
-// or unknown. Never throws. Thread-safe: calls share nothing.
+// Error; "ran and answered" is a SolveResult (solve_result.h) whose status is optimal, feasible,
+// infeasible or unknown. Never throws. Thread-safe: calls share nothing.
 #pragma once
 
 #include <atomic>
@@ -18,6 +18,7 @@
 #include "planner/model/state_plan.h"
 #include "planner/model/trajectory.h"
 #include "planner/analyze/bounds.h"
+#include "planner/solve/solve_result.h"
 
 namespace ctb {
 
@@ -111,7 +112,11 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o);
 std::optional<Error> CheckRepresentable(const Domain& d, const StatePlan& sp, Objective objective,
                                         int max_horizon);
 
-// Returns the trajectory JSON (contract section 5) or an Error.
-std::variant<Json, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o);
+// The answer, typed, or an Error.
+std::variant<SolveResult, Error> Solve(const Domain& d, const StatePlan& sp, const SolveOptions& o);
+
+// Solve's answer written as the contract's document (ResultJson), for local callers that want
+// the JSON itself (tests, tools).
+std::variant<Json, Error> SolveDocument(const Domain& d, const StatePlan& sp, const SolveOptions& o);
 
 }  // namespace ctb

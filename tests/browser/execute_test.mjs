@@ -73,32 +73,39 @@ const keptTurns = (page) => page.evaluate(() => {
   const list = JSON.parse(localStorage.getItem("ctburton.dialogues.v1") || "[]");
   return list.length ? list[list.length - 1].turns : [];
 });
-const nowLineX = (turn) => turn.locator("svg.timeline line.now-line").evaluate((l) => +l.getAttribute("x1"));
 const pastWidth = (turn) => turn.locator("svg.timeline rect.past").evaluate((r) => +r.getAttribute("width"));
 const future = (t) => t.transitions.filter((x) => !x.executed && !x.observed);
 const has = (list, a, from, to) => list.some((x) => x.automaton === a && x.from === from && x.to === to);
 
 // Starts the execution at ×1 and stops it within the first second (robot 1 reaches door 1 at
-// 0:01): the line moved and the part behind it is hatched. With `stopAt`, Stop is clicked from
-// inside the page on the first frame whose now (plan seconds) reaches it, so that the replan's
-// now (whole seconds) is known. Returns the execution's now.
+// 0:01): the line moved and the part behind it is hatched. Everything is watched from inside the
+// page, frame by frame, and Stop is clicked there on the first frame whose now (plan seconds)
+// reaches `stopAt` (0.25 when not given), so that the replan's now (whole seconds) is known and a
+// slow machine (long round trips to the browser) changes nothing. Returns the execution's now.
 async function startAndStop(page, turn, name, stopAt = null) {
   const toggle = turn.locator(".exec-toggle");
   check(`${name}: the plan has a Start control`, (await toggle.textContent()) === "Start execution");
-  await toggle.click();
-  await sleep(100);
-  const x0 = await nowLineX(turn), w0 = await pastWidth(turn);
-  await sleep(150);
-  const x1 = await nowLineX(turn), w1 = await pastWidth(turn);
-  if (stopAt === null) await toggle.click();
-  else await turn.locator(".exec").evaluate((box, at) => new Promise((done) => {
+  const watched = turn.evaluate((t, at) => new Promise((done) => {
+    const box = t.querySelector(".exec");
+    const line = () => t.querySelector("svg.timeline line.now-line");
+    const past = () => t.querySelector("svg.timeline rect.past");
+    const seen = () => ({ x: +line().getAttribute("x1"), w: +past().getAttribute("width"), now: +box.dataset.now });
+    let first = null;
     const tick = () => {
-      if (+box.dataset.now >= at) { box.querySelector(".exec-toggle").click(); done(); } else requestAnimationFrame(tick);
+      const running = +box.dataset.now > 0 && line() && past();
+      if (running && first === null) first = seen();
+      if (running && first !== null && +box.dataset.now >= at && +box.dataset.now > first.now) {
+        const last = seen();
+        box.querySelector(".exec-toggle").click();
+        done({ first, last });
+      } else requestAnimationFrame(tick);
     };
     tick();
-  }), stopAt);
-  check(`${name}: the now line moves across the timeline`, x1 > x0, `${x0} -> ${x1}`);
-  check(`${name}: the executed part is drawn hatched behind it`, w1 > w0 && w0 >= 0, `${w0} -> ${w1}`);
+  }), stopAt ?? 0.25);
+  await toggle.click();
+  const { first, last } = await watched;
+  check(`${name}: the now line moves across the timeline`, last.x > first.x, `${first.x} -> ${last.x}`);
+  check(`${name}: the executed part is drawn hatched behind it`, last.w > first.w && first.w >= 0, `${first.w} -> ${last.w}`);
   check(`${name}: Stop pauses`, (await toggle.textContent()) === "Resume");
   return +(await turn.locator(".exec").getAttribute("data-now"));
 }

@@ -104,7 +104,7 @@ TEST(ProtoJson, SolvedAnswersConvertAsProtobufsMappingDoes) {
     ASSERT_TRUE(sp) << ex;
     SolveOptions o;
     o.time_limit_ms = 20000;
-    auto r = Solve(*d, *sp, o);
+    auto r = SolveDocument(*d, *sp, o);
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << ex;
     Agrees<pb::Trajectory>(Wrapped(std::get<Json>(r)), ex);
   }

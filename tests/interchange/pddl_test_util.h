@@ -72,7 +72,7 @@ inline Json SolveImported(const Json& domain_json, const Json& plan_json, SolveO
   EXPECT_TRUE(sp) << (d.errors().empty() ? "" : d.errors()[0].ToString());
   if (!sp) return Json();
   o.time_limit_ms = 120000;
-  auto r = Solve(*dom, *sp, o);
+  auto r = SolveDocument(*dom, *sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json();

@@ -65,7 +65,7 @@ Solved SolveIt(const std::string& domain, const Json& state_plan, std::optional<
   o.max_horizon = 20;
   Solved s;
   o.plan_out = &s.plan;
-  auto r = Solve(d, *sp, o);
+  auto r = SolveDocument(d, *sp, o);
   EXPECT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
   if (!std::holds_alternative<Json>(r)) return {};
   s.answer = std::get<Json>(r);
@@ -257,7 +257,7 @@ TEST(ActionEvents, AnImpossibleOrderIsExplained) {
   ASSERT_TRUE(sp);
   SolveOptions so;
   so.max_horizon = 20;
-  Json e = Explain(ShippedDomain("search_rescue"), *sp, so, ExplainOptions{});
+  Json e = ExplanationJson(Explain(ShippedDomain("search_rescue"), *sp, so, ExplainOptions{}));
   EXPECT_FALSE(e.contains("error")) << e;
   ASSERT_FALSE(e["conflicts"].empty()) << e;
   EXPECT_EQ(e["status"], "minimal") << e;

@@ -53,7 +53,7 @@ TEST(Backend, InfeasibleAtEveryHorizonGrowsByDoublingToMaxHorizon) {
   o.max_horizon = 12;
   o.portfolio = 1;
   o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
-  auto r = Solve(d, Plan(d), o);
+  auto r = SolveDocument(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   const Json& t = std::get<Json>(r);
   EXPECT_EQ(t["status"], "infeasible");
@@ -72,7 +72,7 @@ TEST(Backend, AFixedHorizonIsOneModel) {
   o.horizon = 7;
   o.portfolio = 1;
   o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
-  auto r = Solve(d, Plan(d), o);
+  auto r = SolveDocument(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "infeasible");
   EXPECT_EQ(b.horizons(), (std::vector<int>{7}));
@@ -85,7 +85,7 @@ TEST(Backend, NoAnswerInTimeIsUnknownNotInfeasible) {
   o.backend = &b;
   o.portfolio = 1;
   o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
-  auto r = Solve(d, Plan(d), o);
+  auto r = SolveDocument(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "unknown");
   EXPECT_EQ(b.horizons().size(), 1u);  // an undecided horizon is not grown past
@@ -98,7 +98,7 @@ TEST(Backend, ASolverFailureIsAnError) {
   o.backend = &b;
   o.portfolio = 1;
   o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
-  auto r = Solve(d, Plan(d), o);
+  auto r = SolveDocument(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   EXPECT_EQ(std::get<Error>(r).code, ErrorCode::kInternal);
   EXPECT_NE(std::get<Error>(r).message.find("scripted failure"), std::string::npos);
@@ -138,7 +138,7 @@ TEST(Backend, AWrongPlanFromTheSolverIsAnInternalErrorNeverAnAnswer) {
   o.backend = &b;
   o.portfolio = 1;
   o.first_plan_ms = 0;  // the exact path alone (the first-plan engine would solve these)
-  auto r = Solve(d, Plan(d), o);
+  auto r = SolveDocument(d, Plan(d), o);
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   EXPECT_EQ(std::get<Error>(r).code, ErrorCode::kInternal);
 }
@@ -165,7 +165,7 @@ TEST(Backend, AnIncumbentWithNothingBetterAtAnyHorizonIsOptimal) {
   o.max_horizon = 16;  // the engine's plan has about a dozen events
   o.portfolio = 1;
   o.objective = Objective::kMakespan;
-  auto r = Solve(d, sp, o);
+  auto r = SolveDocument(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   const Json& t = std::get<Json>(r);
   EXPECT_EQ(t["status"], "optimal");
@@ -189,7 +189,7 @@ TEST(Backend, WithoutTheFirstPlanEngineTheScriptIsFollowed) {
   o.max_horizon = 16;
   o.portfolio = 1;
   o.first_plan_ms = 0;
-  auto r = Solve(d, sp, o);
+  auto r = SolveDocument(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "infeasible");
   EXPECT_EQ(std::get<Json>(r)["stats"]["found_by"], nullptr);

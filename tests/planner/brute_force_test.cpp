@@ -255,7 +255,7 @@ Truth CompareWithTruth(const testing::RandomProblem& p, unsigned seed) {
     o.time_limit_ms = 60000;
     o.search = search;
     o.first_plan_ms = first_plan_ms;
-    auto r = Solve(*d, *sp, o);
+    auto r = SolveDocument(*d, *sp, o);
     EXPECT_TRUE(std::holds_alternative<Json>(r))
         << search << ": " << std::get<Error>(r).ToString() << p.Describe();
     if (!std::holds_alternative<Json>(r)) continue;
@@ -483,7 +483,7 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
       o.first_plan_ms = 0;
       o.bounds = ObjectiveBounds{};  // the exact engine alone: no bound to stop at or constrain
       o.objective = objective;
-      auto r = Solve(*d, *sp, o);
+      auto r = SolveDocument(*d, *sp, o);
       ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
       const Json& answer = std::get<Json>(r);
       ASSERT_TRUE(answer["status"] == "optimal" || answer["status"] == "infeasible")
@@ -508,7 +508,7 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
       o.first_plan_ms = 0;
       o.bounds = ObjectiveBounds{};
       o.objective = Objective::kMakespan;
-      auto r = Solve(*d, *sp, o);
+      auto r = SolveDocument(*d, *sp, o);
       ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
       EXPECT_EQ(std::get<Json>(r)["status"], "infeasible")
           << "seed " << seed << ": a plan with " << o.horizon.value() << " events, event bound "
@@ -577,7 +577,7 @@ TEST(BruteForce, UncertainDurationsHaveTheTrueControllableOptimum) {
     SolveOptions o;
     o.max_horizon = kMaxEvents;
     o.time_limit_ms = 60000;
-    auto r = Solve(*d, *sp, o);
+    auto r = SolveDocument(*d, *sp, o);
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
     const Json& a = std::get<Json>(r);
     const Json c = a.value("controllability", Json::object());

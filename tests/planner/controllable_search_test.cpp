@@ -37,8 +37,8 @@ StatePlan Load(const Domain& d, const Json& j) {
   return *sp;
 }
 
-Json Solved(const Domain& d, const StatePlan& sp, int max_plan_cuts = 16,
-            Trajectory* plan = nullptr, int max_horizon = 32) {
+SolveResult SolvedResult(const Domain& d, const StatePlan& sp, int max_plan_cuts = 16,
+                         Trajectory* plan = nullptr, int max_horizon = 32) {
   SolveOptions o;
   o.time_limit_ms = 60000;
   o.max_horizon = max_horizon;
@@ -47,9 +47,14 @@ Json Solved(const Domain& d, const StatePlan& sp, int max_plan_cuts = 16,
   auto r = Solve(d, sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
-    return Json::object();
+    return SolveResult{};
   }
-  return std::get<Json>(r);
+  return std::get<SolveResult>(r);
+}
+
+Json Solved(const Domain& d, const StatePlan& sp, int max_plan_cuts = 16,
+            Trajectory* plan = nullptr, int max_horizon = 32) {
+  return ResultJson(SolvedResult(d, sp, max_plan_cuts, plan, max_horizon), d, sp);
 }
 
 // Dispatched dynamically against nature `runs` times: every realized trajectory passes the
@@ -114,18 +119,19 @@ TEST(ControllableSearch, ArrivingTogetherIsProvenImpossibleAndEachRelaxationWork
   const StatePlan sp = Load(d, *j);
   SolveOptions none;
   none.controllability = Controllability::kNone;
-  auto optimistic = Solve(d, sp, none);
+  auto optimistic = SolveDocument(d, sp, none);
   ASSERT_TRUE(std::holds_alternative<Json>(optimistic));
   EXPECT_EQ(std::get<Json>(optimistic)["status"], "optimal");
 
   // Within 8 events (the proof's scope, `infeasible_for`): the proof at 32 takes seconds more.
-  Json a = Solved(d, sp, 16, nullptr, 8);
+  SolveResult res = SolvedResult(d, sp, 16, nullptr, 8);
+  AnnotateAnswer(d, sp, SolveOptions{}, res);
+  const Json a = ResultJson(res, d, sp);
   ASSERT_EQ(a["status"], "infeasible") << a.dump();
   EXPECT_EQ(a["infeasible_for"], "max_horizon");
   const Json& c = a["controllability"];
   EXPECT_EQ(c["search"]["proven"], true);
   EXPECT_EQ(c["met"], false);
-  AnnotateAnswer(d, sp, SolveOptions{}, a);
   const Json& ex = a["explanation"];
   EXPECT_EQ(ex["status"], "controllability");
   EXPECT_EQ(ex["stats"]["conflict_by"], "controllability search");

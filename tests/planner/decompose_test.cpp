@@ -64,7 +64,7 @@ TEST(SolveParts, IdenticalCopiesAreSolvedOnceAndMerged) {
   SolveOptions o;
   o.objective = Objective::kMakespan;
   o.time_limit_ms = 120000;
-  auto r = Solve(p.domain, p.plan, o);
+  auto r = SolveDocument(p.domain, p.plan, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
   const Json& t = std::get<Json>(r);
   EXPECT_EQ(t["status"], "optimal");
@@ -85,7 +85,7 @@ TEST(SolveParts, AMergeThatFailsVerificationFallsBackToOneModel) {
   Problem p = LoadData("presentation_x2.json", "presentation_x2_pending_plan.json");
   SolveOptions o;
   o.time_limit_ms = 60000;
-  auto r = Solve(p.domain, p.plan, o);
+  auto r = SolveDocument(p.domain, p.plan, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
   const Json& t = std::get<Json>(r);
   EXPECT_NE(t["stats"]["merge"].get<std::string>().find("failed verification"), std::string::npos);

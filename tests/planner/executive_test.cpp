@@ -58,7 +58,7 @@ std::optional<Solved> SolveCase(const Case& c) {
   SolveOptions o;
   o.time_limit_ms = 60000;
   o.plan_out = &s.plan;
-  auto r = Solve(c.domain, c.sp, o);
+  auto r = SolveDocument(c.domain, c.sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return std::nullopt;

@@ -25,7 +25,7 @@ SolveOptions Options(int max_horizon = 16) {
 }
 
 std::string Status(const Domain& d, const StatePlan& sp, int max_horizon = 16) {
-  auto r = Solve(d, sp, Options(max_horizon));
+  auto r = SolveDocument(d, sp, Options(max_horizon));
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return "error";
@@ -41,7 +41,7 @@ bool Feasible(const std::string& s) { return s == "optimal" || s == "feasible"; 
 std::string SolverStatus(const Domain& d, const StatePlan& sp, int max_horizon) {
   SolveOptions o = Options(max_horizon);
   o.static_analysis = false;
-  auto r = Solve(d, sp, o);
+  auto r = SolveDocument(d, sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return "error";
@@ -90,7 +90,7 @@ void CheckCase(const Case& c) {
   const Domain& d = testing::ShippedDomain(c.domain);
   StatePlan sp = testing::ShippedStatePlan(c.domain, testing::SourceDir() + "/" + c.file);
   ASSERT_TRUE(Infeasible(d, sp));
-  Json ex = Explain(d, sp, Options());
+  Json ex = ExplanationJson(Explain(d, sp, Options()));
   SCOPED_TRACE(ex.dump(1));
   EXPECT_EQ(ex["status"], "minimal");
   ASSERT_EQ(ex["conflicts"].size(), 1u);
@@ -198,7 +198,7 @@ TEST(Explain, ConflictsBeyondStaticAnalysisComeFromAZ3Core) {
     eo.relaxation_check_ms = 100;
     SolveOptions so = Options(10);
     so.static_analysis = false;
-    Json ex = Explain(d, sp, so, eo);
+    Json ex = ExplanationJson(Explain(d, sp, so, eo));
     SCOPED_TRACE(ex.dump(1));
     std::cout << (z3 ? "z3 core: " : "deletion filter: ") << ex["stats"].dump() << "\n";
     EXPECT_EQ(ex["status"], "minimal");
@@ -223,7 +223,7 @@ TEST(Explain, TimeLimitGivesUnknownWithTheConsistentParts) {
   StatePlan sp = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/explain/three_together.json");
   ExplainOptions eo;
   eo.time_limit_ms = 1;
-  Json ex = Explain(d, sp, Options(), eo);
+  Json ex = ExplanationJson(Explain(d, sp, Options(), eo));
   EXPECT_EQ(ex["status"], "unknown");
   EXPECT_TRUE(ex.contains("consistent"));
   EXPECT_EQ(ex["stats"]["solver_calls"], 0);
@@ -234,23 +234,26 @@ TEST(Explain, FeasibleAnswerCarriesSummaryAndNoExplanation) {
   StatePlan sp = testing::ShippedStatePlan("search_rescue", testing::ConfigDir() + "/examples/search_rescue/test2.json");
   SolveOptions o = Options();
   auto r = Solve(d, sp, o);
-  ASSERT_TRUE(std::holds_alternative<Json>(r));
-  Json t = std::get<Json>(r);
-  AnnotateAnswer(d, sp, o, t);
+  ASSERT_TRUE(std::holds_alternative<SolveResult>(r));
+  SolveResult& res = std::get<SolveResult>(r);
+  AnnotateAnswer(d, sp, o, res);
+  const Json t = ResultJson(res, d, sp);
   EXPECT_EQ(t["status"], "optimal");
   EXPECT_FALSE(t.contains("explanation"));
   ASSERT_TRUE(t.contains("state_plan_summary"));
   EXPECT_EQ(t["state_plan_summary"].size(), 2u);  // initial state and goal
-  EXPECT_EQ(DialogueNote(t), "");
+  EXPECT_EQ(DialogueNote(res), "");
 }
 
 TEST(Explain, InfeasibleAnswerIsAnnotated) {
   const Domain& d = testing::ShippedDomain("presentation");
   StatePlan sp = testing::ShippedStatePlan("presentation", testing::SourceDir() + "/tests/data/deadline_infeasible.json");
-  Json t = {{"status", "infeasible"}};
+  SolveResult t;
+  t.status = Termination::kInfeasible;
   AnnotateAnswer(d, sp, Options(), t);
-  ASSERT_TRUE(t.contains("explanation"));
-  EXPECT_EQ(t["explanation"]["conflicts"][0]["constraints"][0], "/constraints/temporal/OnWithin10");
+  ASSERT_TRUE(t.explanation);
+  ASSERT_FALSE(t.explanation->conflicts.empty());
+  EXPECT_EQ(t.explanation->conflicts[0].constraints.at(0), "/constraints/temporal/OnWithin10");
   EXPECT_NE(DialogueNote(t).find("Allow 30 s instead of 10 s"), std::string::npos) << DialogueNote(t);
 }
 

@@ -239,7 +239,7 @@ TEST(Workload, OneVisitCarryingTwoStepsIsChargedOnce) {
   o.bounds = ObjectiveBounds{};
   o.search = "g_first";
   o.max_horizon = 6;
-  auto r = Solve(*d, *sp, o);
+  auto r = SolveDocument(*d, *sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["objective"]["value"], 2);
   auto change = LoadStatePlan(testing::MustParse(R"({"initial_state": {"h": "home", "x": "p0"},

@@ -245,7 +245,7 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
     SolveOptions so;
     so.max_horizon = 6;
     so.time_limit_ms = 60000;
-    auto solved = Solve(*d, *sp, so);
+    auto solved = SolveDocument(*d, *sp, so);
     ASSERT_TRUE(std::holds_alternative<Json>(solved));
     const Json plan = std::get<Json>(solved);
     if (plan["status"] != "optimal") continue;
@@ -277,14 +277,14 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
     ReplanOptions o;
     o.solve.max_horizon = 6;
     o.solve.time_limit_ms = 60000;
-    auto r = Replan(*d, *sp, req, o);
+    auto r = ReplanDocument(*d, *sp, req, o);
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << what;
     const Json ans = std::get<Json>(r);
     ++checked;
     // The prechecks and the first-plan engine agree with the exact engines alone.
     o.precheck = false;
     o.solve.first_plan_ms = 0;
-    auto r2 = Replan(*d, *sp, req, o);
+    auto r2 = ReplanDocument(*d, *sp, req, o);
     o.solve.first_plan_ms = -1;
     ASSERT_TRUE(std::holds_alternative<Json>(r2)) << what;
     EXPECT_EQ(std::get<Json>(r2)["status"], ans["status"]) << what;
@@ -313,7 +313,7 @@ TEST(ReplanDifferential, HistoryPlusFutureVerifiesAndTinyOptimaAreTrue) {
       auto truth = en.Run();
       o.precheck = true;
       o.solve.max_horizon = kFutureEvents;
-      auto small = Replan(*d, *sp, req, o);
+      auto small = ReplanDocument(*d, *sp, req, o);
       ASSERT_TRUE(std::holds_alternative<Json>(small)) << what;
       const Json& s = std::get<Json>(small);
       if (truth) {

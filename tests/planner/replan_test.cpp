@@ -32,7 +32,7 @@ Json MustSolve(const Problem& p, Objective objective) {
   SolveOptions o;
   o.objective = objective;
   o.time_limit_ms = 120000;
-  auto r = Solve(*p.d, p.sp, o);
+  auto r = SolveDocument(*p.d, p.sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json();
@@ -49,7 +49,7 @@ std::variant<Json, Error> RunReplan(const Problem& p, const Json& body, Objectiv
   o.solve.objective = objective;
   o.solve.time_limit_ms = 120000;
   o.keep = from_body;
-  return Replan(*p.d, p.sp, req, o);
+  return ReplanDocument(*p.d, p.sp, req, o);
 }
 
 Json MustReplan(const Problem& p, const Json& body, Objective objective, Keep keep = Keep::kNone) {
@@ -200,7 +200,7 @@ TEST(ReplanPresentation, LongWarmUpMissesTheDeadline) {
   ReplanOptions o;
   o.solve.objective = Objective::kMakespan;
   o.precheck = false;
-  auto r = Replan(*p.d, p.sp, req, o);
+  auto r = ReplanDocument(*p.d, p.sp, req, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "infeasible");
 }
@@ -309,7 +309,7 @@ TEST(ReplanEngine, TheFirstPlanEngineAnswersFromTheHistory) {
     ReplanOptions o;
     o.solve.objective = Objective::kMakespan;
     o.solve.first_plan_ms = 0;
-    auto exact = Replan(*p.d, p.sp, req, o);
+    auto exact = ReplanDocument(*p.d, p.sp, req, o);
     ASSERT_TRUE(std::holds_alternative<Json>(exact));
     EXPECT_EQ(std::get<Json>(exact)["status"], "optimal");
     EXPECT_EQ(std::get<Json>(exact)["objective"]["value"], optimum);
@@ -347,7 +347,7 @@ TEST(ReplanBounds, APartBegunAtStageZeroKeepsItsStartWhenNothingHappened) {
   ReplanOptions o;
   o.solve.first_plan_ms = 0;
   o.solve.max_horizon = 6;
-  auto r = Replan(*d, *sp, req, o);
+  auto r = ReplanDocument(*d, *sp, req, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   const Json& re = std::get<Json>(r);
   ASSERT_EQ(re["status"], "optimal") << re.dump();

@@ -23,7 +23,7 @@ Json SolveExample(const std::string& domain, const std::string& file,
   if (!sp) return Json();
   o.objective = objective;
   if (o.time_limit_ms == 60000) o.time_limit_ms = 120000;  // generous: CI machines vary
-  auto r = Solve(dom, *sp, o);
+  auto r = SolveDocument(dom, *sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json();

@@ -27,7 +27,7 @@ Problem Load(const Json& domain, const Json& plan) {
 
 Json MustSolve(const Problem& p, SolveOptions o) {
   o.time_limit_ms = 120000;
-  auto r = Solve(p.d, p.sp, o);
+  auto r = SolveDocument(p.d, p.sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json::object();
@@ -208,7 +208,7 @@ TEST(Soundness, UnrepresentableCostsAreALocatedError) {
                {"end_state", {{"goal_constraint", "lampl[i+1]==on /\\ slowl[i+1]==on"}}},
                {"objective", "cost_then_makespan"}};
   Problem p = Load(dom, plan);
-  auto r = Solve(p.d, p.sp, {});
+  auto r = SolveDocument(p.d, p.sp, {});
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   const Error& e = std::get<Error>(r);
   EXPECT_EQ(e.code, ErrorCode::kInvalidInput);
@@ -218,7 +218,7 @@ TEST(Soundness, UnrepresentableCostsAreALocatedError) {
   // The same costs with the cost objective fit.
   SolveOptions cost;
   cost.objective = Objective::kCost;
-  EXPECT_TRUE(std::holds_alternative<Json>(Solve(p.d, p.sp, cost)));
+  EXPECT_TRUE(std::holds_alternative<Json>(SolveDocument(p.d, p.sp, cost)));
 }
 
 
@@ -230,7 +230,7 @@ TEST(Soundness, TicksBeyondTheIntegerRangeAreALocatedError) {
   Json plan = {{"initial_state", {{"slow", "off"}}},
                {"end_state", {{"goal_constraint", "slowl[i+1]==on"}}}};
   Problem p = Load(dom, plan);
-  auto r = Solve(p.d, p.sp, {});
+  auto r = SolveDocument(p.d, p.sp, {});
   ASSERT_TRUE(std::holds_alternative<Error>(r));
   const Error& e = std::get<Error>(r);
   EXPECT_EQ(e.code, ErrorCode::kInvalidInput);

@@ -241,7 +241,7 @@ struct Outcome {
 Outcome Run(const Domain& d, const StatePlan& sp, SolveOptions o) {
   o.time_limit_ms = 60000;
   o.max_horizon = kMaxHorizon;
-  auto r = Solve(d, sp, o);
+  auto r = SolveDocument(d, sp, o);
   if (auto* e = std::get_if<Error>(&r)) return {"error", nullptr, e->ToString()};
   const Json& t = std::get<Json>(r);
   if ((t["status"] == "optimal" || t["status"] == "feasible") && t["verified"] != true)

@@ -97,7 +97,7 @@ Json SolveRescue(const Domain& dom, int n, Objective objective) {
   SolveOptions o;
   o.objective = objective;
   o.time_limit_ms = 120000;
-  auto r = Solve(dom, *sp, o);
+  auto r = SolveDocument(dom, *sp, o);
   if (auto* e = std::get_if<Error>(&r)) {
     ADD_FAILURE() << e->ToString();
     return Json();

@@ -75,10 +75,10 @@ TEST(Z3Backend, AnswerNamesTheEngineAndAgreesWithGecode) {
   o.objective = Objective::kCost;
   o.search = "z3";
   o.first_plan_ms = 0;  // the engines themselves (the first-plan engine proves this one at once)
-  auto z = Solve(d, sp, o);
+  auto z = SolveDocument(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(z)) << std::get<Error>(z).ToString();
   o.search = "g_first";
-  auto g = Solve(d, sp, o);
+  auto g = SolveDocument(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(g)) << std::get<Error>(g).ToString();
   const Json &tz = std::get<Json>(z), &tg = std::get<Json>(g);
   EXPECT_EQ(tz["status"], "optimal");

@@ -118,7 +118,7 @@ TEST(NewDomain, CommandToVerifiedPlanWithAPromptBuiltFromTheDomain) {
   ASSERT_TRUE(sp) << testing::AllErrors(diags);
   SolveOptions so;
   so.time_limit_ms = 60000;
-  auto solved = Solve(d, *sp, so);
+  auto solved = SolveDocument(d, *sp, so);
   ASSERT_TRUE(std::holds_alternative<Json>(solved)) << std::get<Error>(solved).ToString();
   const Json& traj = std::get<Json>(solved);
   EXPECT_EQ(traj["status"], "optimal");

@@ -73,7 +73,7 @@ TEST(Replay, NaturalLanguageToVerifiedPlan) {
     ASSERT_TRUE(sp);
     SolveOptions o;
     o.time_limit_ms = 120000;
-    auto s = Solve(d, *sp, o);
+    auto s = SolveDocument(d, *sp, o);
     ASSERT_TRUE(std::holds_alternative<Json>(s)) << std::get<Error>(s).ToString();
     const Json& t = std::get<Json>(s);
     EXPECT_EQ(t["status"], "optimal") << c["name"];
