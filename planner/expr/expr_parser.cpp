@@ -288,8 +288,14 @@ class Parser {
     e.value = first.text;
     e.value_offset = first.offset;
     if (Peek().kind != TokKind::kEq && Peek().kind != TokKind::kNe) {
+      const bool quantifier_like = Peek().kind == TokKind::kLParen &&
+                                   (first.text == "forall" || first.text == "exists" ||
+                                    first.text == "all" || first.text == "some");
       Fail(Peek().offset, "expected '[' after variable '" + first.text + "', got " +
-                              Describe(Peek()));
+                              Describe(Peek()) +
+                              (quantifier_like ? " (a quantifier is written every(k in TEMPLATE: "
+                                                 "...) or any(k in TEMPLATE: ...))"
+                                               : ""));
       return std::nullopt;
     }
     if (!ParseOp(e)) return std::nullopt;

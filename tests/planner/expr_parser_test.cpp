@@ -196,6 +196,8 @@ TEST(Parse, RejectsMalformedQuantifiersWithOffset) {
       {"every(k in robot: robot{k l[i]==a)", 23, "a placeholder is '{'"},
       {"every(k in robot: robot{}l[i]==a)", 23, "a placeholder is '{'"},
       {"every(k in robot: robot{1}l[i]==a)", 23, "a placeholder is '{'"},
+      {"forall(k in robot: true)", 6, "a quantifier is written every(k in TEMPLATE: ...)"},
+      {"exists(k in robot: true)", 6, "or any(k in TEMPLATE: ...)"},
   };
   for (const auto& c : cases) {
     ExprError err;
