@@ -22,8 +22,8 @@ std::map<std::string, std::string> MetricsOf(const SolveResult& r) {
   std::map<std::string, std::string> m;
   const SolveStats& s = r.stats;
   m["solver"] = s.solver;
-  if (r.plan && !s.found_by.empty()) m["found_by"] = s.found_by;
-  if (Proven(r.status) && !s.proved_by.empty()) m["proved_by"] = s.proved_by;
+  if (r.plan && !s.found_by.empty()) m["found_by"] = s.found_by.Name();
+  if (Proven(r.status) && !s.proved_by.empty()) m["proved_by"] = s.proved_by.Name();
   m["compile_ms"] = std::to_string(s.compile_ms);
   m["solve_ms"] = std::to_string(s.solve_ms);
   m["first_solution_ms"] = std::to_string(s.first_solution_ms);

@@ -21,7 +21,7 @@ Json SolutionEventJson(const SolveProgress& p) {
   if (p.value.kind == Objective::kCostThenMakespan) objective = {{"cost", p.value.cost}, {"makespan", makespan}};
   return {{"kind", ObjectiveName(p.value.kind)}, {"cost", p.value.cost}, {"horizon", p.horizon},
           {"makespan", makespan}, {"elapsed_ms", p.elapsed_ms}, {"bound", p.bound.ToJson()},
-          {"found_by", p.found_by}, {"objective", objective}, {"solve_ms", p.elapsed_ms}};
+          {"found_by", p.found_by.Name()}, {"objective", objective}, {"solve_ms", p.elapsed_ms}};
 }
 
 }  // namespace ctb::app

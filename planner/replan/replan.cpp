@@ -72,7 +72,7 @@ Json Seconds(long ticks, long tps) {
 // An infeasible answer decided before any solve: the history already broke the state plan, or
 // what is blocked cuts the goal off, whatever the number of events.
 SolveResult Infeasible(Objective objective, std::vector<ExplanationConflict> conflicts,
-                       const Situation& s, long ms, const std::string& why, int max_horizon) {
+                       const Situation& s, long ms, Method why, int max_horizon) {
   SolveResult r;
   r.status = Termination::kInfeasible;
   r.objective = objective;
@@ -82,7 +82,8 @@ SolveResult Infeasible(Objective objective, std::vector<ExplanationConflict> con
   r.scope = InfeasibleScope::kAnyHorizon;
   r.explanation = Explanation{std::move(conflicts), {}, ExplanationStatus::kMinimal, std::nullopt,
                               Json(), ""};
-  r.stats.solver = r.stats.proved_by = why;
+  r.stats.proved_by = {why, ""};
+  r.stats.solver = r.stats.proved_by.Name();
   r.stats.solve_ms = ms;
   return r;
 }
@@ -166,7 +167,7 @@ std::variant<ReplanResult, Error> Replan(const Domain& d, const StatePlan& sp,
   const int max_h = std::min(kMaxHorizonLimit, p + o.solve.max_horizon);
   if (o.precheck) {
     std::vector<ExplanationConflict> broken = replan::BrokenByHistory(sp, s);
-    auto early = [&](std::vector<ExplanationConflict> conflicts, const char* why) {
+    auto early = [&](std::vector<ExplanationConflict> conflicts, Method why) {
       ReplanResult r;
       r.answer = Infeasible(objective, std::move(conflicts), s, MsSince(t0), why, max_h);
       r.answer.stats.extra["history_events"] = p;
@@ -174,8 +175,8 @@ std::variant<ReplanResult, Error> Replan(const Domain& d, const StatePlan& sp,
       r.keep = o.keep;
       return r;
     };
-    if (!broken.empty()) return early(broken, "history check");
-    if (auto cut = replan::GoalCutOff(d, sp, s)) return early({*cut}, "static analysis");
+    if (!broken.empty()) return early(broken, Method::kHistoryCheck);
+    if (auto cut = replan::GoalCutOff(d, sp, s)) return early({*cut}, Method::kStaticAnalysis);
   }
   SolveOptions so = o.solve;
   so.history = std::make_shared<const History>(s.history);

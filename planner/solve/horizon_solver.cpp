@@ -35,7 +35,7 @@ class Solver {
     if (o.symmetry && !o.history) info_.symmetries = FindSymmetries(d, sp);
     if (best_) {
       horizon_ = best_->traj.goal_event;
-      found_by_ = "heuristic";
+      found_by_ = {Method::kHeuristic, ""};
     }
   }
 
@@ -51,15 +51,15 @@ class Solver {
 
   Core Run() {
     // An incumbent that meets a bound every plan obeys is optimal at once.
-    if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+    if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, {Method::kLowerBound, ""});
     if (o_.horizon) {
       // With an incumbent, "infeasible" here means: nothing better at this horizon.
       auto r = Attempt(*o_.horizon, best_);
       if (error_) return Fail();
-      if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+      if (best_ && MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, {Method::kLowerBound, ""});
       if (r == Outcome::kOptimal || (r == Outcome::kInfeasible && best_))
-        return Proved(Termination::kOptimal, decider_);
-      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, decider_);
+        return Proved(Termination::kOptimal, ByEngine(decider_));
+      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, ByEngine(decider_));
       return Finish(best_ ? Termination::kFeasible : Termination::kUnknown);
     }
     // Grow the horizon until a plan (better than the incumbent, if any) exists.
@@ -77,24 +77,24 @@ class Solver {
       h = std::min(o_.max_horizon, std::max(h + 1, 2 * h));
     }
     if (!best_) {
-      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, decider_);
+      if (r == Outcome::kInfeasible) return Proved(Termination::kInfeasible, ByEngine(decider_));
       return Finish(Termination::kUnknown);
     }
-    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
-    if (r == Outcome::kInfeasible) return Proved(Termination::kOptimal, decider_);  // the incumbent
+    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, {Method::kLowerBound, ""});
+    if (r == Outcome::kInfeasible) return Proved(Termination::kOptimal, ByEngine(decider_));  // the incumbent
     if (r != Outcome::kOptimal) return Finish(Termination::kFeasible);
     // A plan that meets a bound every plan obeys is optimal whatever the number of events.
-    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+    if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, {Method::kLowerBound, ""});
     // Close optimality over every plan with at most max_horizon events. The horizon doubles on
     // the way: a better plan found at a smaller horizon (a smaller model) may meet the bound and
     // end the search. Invariant: no plan better than best_ has at most `closed` events.
     for (int closed = horizon_;;) {
       const int need = std::min(EventsForBetter(*best_), o_.max_horizon);
-      if (need <= closed) return Proved(Termination::kOptimal, decider_);
+      if (need <= closed) return Proved(Termination::kOptimal, ByEngine(decider_));
       const int next = std::min(need, std::max(closed + 1, 2 * closed));
       r = Attempt(next, best_);
       if (error_) return Fail();
-      if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, "lower bound");
+      if (MeetsLowerBound(*best_)) return Proved(Termination::kOptimal, {Method::kLowerBound, ""});
       if (r != Outcome::kOptimal && r != Outcome::kInfeasible) return Finish(Termination::kFeasible);
       closed = next;
     }
@@ -316,12 +316,12 @@ class Solver {
       if (!best_ || Better(p, *best_)) {
         best_ = p;
         horizon_ = h;
-        found_by_ = r.engine;
+        found_by_ = ByEngine(r.engine);
         if (!decided) AddEngine(engine_, r.engine);
         if (o_.on_progress)
           o_.on_progress({{objective_, p.cost, p.makespan, info_.ticks_per_second},
                           BoundValue(bounds_, objective_, info_.ticks_per_second), h, MsSince(t0_),
-                          r.engine});
+                          ByEngine(r.engine)});
       }
     }
     if (decided) {
@@ -374,10 +374,10 @@ class Solver {
     c.variables = variables_;
     c.first_solution_ms = first_solution_ms_;
     c.engine = engine_;
-    c.found_by = best_ ? found_by_ : "";
+    c.found_by = best_ ? found_by_ : Credit{};
     return c;
   }
-  Core Proved(Termination status, const std::string& by) const {
+  Core Proved(Termination status, Credit by) const {
     Core c = Finish(status);
     c.proved_by = by;
     return c;
@@ -406,7 +406,7 @@ class Solver {
   long variables_ = 0;
   long first_solution_ms_ = -1;
   std::string engine_;
-  std::string found_by_;  // the engine of best_
+  Credit found_by_;       // what found best_
   std::string decider_;   // the engine of the last definitive run
 };
 

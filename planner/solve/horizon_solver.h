@@ -31,11 +31,11 @@ struct Core {
   long first_solution_ms = -1;
   // The engine(s) whose runs decided the answer ("gecode", "z3", "gecode+z3"); empty: none ran.
   std::string engine;
-  // The engine that found the plan kept ("heuristic", "gecode", "z3"), and what proved the
-  // status when it is optimal or infeasible (an engine, "lower bound", "static analysis"); empty
-  // when unknown (then AnswerJson falls back on `engine`).
-  std::string found_by;
-  std::string proved_by;
+  // What found the plan kept (the heuristic, an engine), and what proved the status when it is
+  // optimal or infeasible (an engine, the lower bound, static analysis); none when unknown (then
+  // the answer credits `engine`).
+  Credit found_by;
+  Credit proved_by;
   std::optional<Error> error;
 };
 

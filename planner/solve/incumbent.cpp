@@ -43,7 +43,7 @@ std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, con
     found_ms = MsSince(t0);
     if (o.on_progress)
       o.on_progress({{objective, cost, makespan, tps}, BoundValue(bounds, objective, tps), t.goal_event,
-                     found_ms, "heuristic"});
+                     found_ms, Credit{Method::kHeuristic, ""}});
   };
   FirstPlanResult r = FindFirstPlan(d, sp, fo);
   Json info = {{"ms", r.elapsed_ms}, {"expanded", r.expanded}, {"generated", r.generated},

@@ -66,8 +66,8 @@ SolveResult ResultOf(const Domain& d, const StatePlan& sp, Objective objective, 
   // Which engine found the plan and what proved the status.
   const std::string engine = c.engine.empty() ? solver_name : c.engine;
   r.stats.solver = engine;
-  r.stats.found_by = c.found_by.empty() ? engine : c.found_by;
-  r.stats.proved_by = c.proved_by.empty() ? engine : c.proved_by;
+  r.stats.found_by = c.found_by.empty() ? ByEngine(engine) : c.found_by;
+  r.stats.proved_by = c.proved_by.empty() ? ByEngine(engine) : c.proved_by;
   r.stats.compile_ms = c.compile_ms;
   r.stats.solve_ms = elapsed_ms;
   r.stats.first_solution_ms = c.first_solution_ms;
@@ -198,6 +198,7 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     if (auto conflict = FindStaticConflict(analysis ? *analysis : d, sp)) {
       Core c;
       c.status = Termination::kInfeasible;
+      c.proved_by = {Method::kStaticAnalysis, ""};
       stats["static_conflict"] = conflict->text;
       SolveResult out = ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, "static analysis");
       out.scope = InfeasibleScope::kAnyHorizon;
@@ -227,8 +228,9 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     c.best = incumbent;
     c.horizon = incumbent->traj.goal_event;
     c.first_solution_ms = found_ms;
-    c.engine = c.found_by = "heuristic";
-    c.proved_by = "lower bound";
+    c.engine = "heuristic";
+    c.found_by = {Method::kHeuristic, ""};
+    c.proved_by = {Method::kLowerBound, ""};
     WriteModelOut(d, sp, o, objective, c.horizon);
     return ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out);
   }

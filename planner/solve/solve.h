@@ -38,7 +38,7 @@ struct SolveProgress {
   ObjectiveValue bound;  // what no plan can beat (the same kind)
   int horizon = 0;       // the plan's events
   long elapsed_ms = 0;   // since the solve began
-  std::string found_by;  // the engine that found it
+  Credit found_by;       // what found it: the heuristic or an engine
 };
 
 struct SolveOptions {

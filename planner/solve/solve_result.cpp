@@ -46,6 +46,18 @@ Json ExplanationJson(const Explanation& e) {
   return out;
 }
 
+std::string Credit::Name() const {
+  switch (method) {
+    case Method::kNone: return "";
+    case Method::kEngine: return engine;
+    case Method::kHeuristic: return "heuristic";
+    case Method::kLowerBound: return "lower bound";
+    case Method::kStaticAnalysis: return "static analysis";
+    case Method::kHistoryCheck: return "history check";
+  }
+  return "";
+}
+
 std::optional<ObjectiveValue> SolveResult::Value() const {
   if (!plan) return std::nullopt;
   return ObjectiveValue{objective, cost, makespan_ticks, ticks_per_second};
@@ -56,8 +68,8 @@ namespace {
 Json StatsJson(const SolveResult& r) {
   const SolveStats& s = r.stats;
   Json out = {{"solver", s.solver},
-              {"found_by", r.plan && !s.found_by.empty() ? Json(s.found_by) : Json()},
-              {"proved_by", Proven(r.status) && !s.proved_by.empty() ? Json(s.proved_by) : Json()},
+              {"found_by", r.plan && !s.found_by.empty() ? Json(s.found_by.Name()) : Json()},
+              {"proved_by", Proven(r.status) && !s.proved_by.empty() ? Json(s.proved_by.Name()) : Json()},
               {"compile_ms", s.compile_ms},
               {"solve_ms", s.solve_ms},
               {"first_solution_ms", s.first_solution_ms},

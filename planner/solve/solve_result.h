@@ -53,11 +53,23 @@ struct Explanation {
 const char* ExplanationStatusName(ExplanationStatus s);  // "minimal" | "unknown" | "controllability"
 Json ExplanationJson(const Explanation& e);
 
+// What found a plan or proved a status: an exact engine (named by its backend: "gecode", "z3",
+// or a test's own), or one of the planner's own methods.
+enum class Method { kNone, kEngine, kHeuristic, kLowerBound, kStaticAnalysis, kHistoryCheck };
+struct Credit {
+  Method method = Method::kNone;
+  std::string engine;  // kEngine: the backend's name
+  // "gecode", "heuristic", "lower bound", "static analysis", "history check"; "" for kNone.
+  std::string Name() const;
+  bool empty() const { return method == Method::kNone; }
+};
+inline Credit ByEngine(std::string name) { return {Method::kEngine, std::move(name)}; }
+
 struct SolveStats {
   // The engine(s) that ran ("gecode", "z3", "gecode+z3", "static analysis", "history check").
   std::string solver;
-  std::string found_by;   // the engine that found the plan kept; "" without a plan
-  std::string proved_by;  // what proved the status ("lower bound", an engine); "" unless proven
+  Credit found_by;   // what found the plan kept; none without a plan
+  Credit proved_by;  // what proved the status; none unless proven
   long compile_ms = 0;
   long solve_ms = 0;
   long first_solution_ms = -1;
