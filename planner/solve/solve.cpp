@@ -214,10 +214,18 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
   long found_ms = -1;
   std::optional<solve::Plan> incumbent;
   bool meets_bound = false;
+  // The lower bounds are computed once, when first needed (the first-plan engine's target, the
+  // exact engines' closing rule, the answer's bound): at a thousand automata they are a tenth of
+  // the solve.
+  std::optional<ObjectiveBounds> known_bounds = o.bounds;
+  auto bounds_of_whole = [&]() -> const ObjectiveBounds& {
+    if (!known_bounds) known_bounds = LowerBounds(d, sp);
+    return *known_bounds;
+  };
   // Replanning (o.history): the engine starts from the history; the bounds are those valid given
   // it (o.bounds), so a plan that meets them is optimal for the future as for the exact engines.
   if (!o.idle_events && solve::FirstPlanBudgetMs(o) > 0 && parts.size() <= 1) {
-    const ObjectiveBounds bounds = o.bounds ? *o.bounds : LowerBounds(d, sp);
+    const ObjectiveBounds& bounds = bounds_of_whole();
     incumbent = solve::FirstPlanIncumbent(d, sp, o, objective, max_h, bounds, t0, stats, found_ms);
     meets_bound = incumbent &&
                   MeetsLowerBounds(bounds, objective, incumbent->cost, incumbent->makespan);
@@ -232,7 +240,8 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     c.found_by = {Method::kHeuristic, ""};
     c.proved_by = {Method::kLowerBound, ""};
     WriteModelOut(d, sp, o, objective, c.horizon);
-    return ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out);
+    return ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, bounds_of_whole(),
+                    o.plan_out);
   }
   if (parts.size() > 1) {
     auto c = SolveParts(d, sp, parts, o, objective, t0, stats);
@@ -240,10 +249,11 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     if (c) {
       WriteModelOut(d, sp, o, objective, c->best ? c->best->traj.goal_event : c->horizon);
       return WithScope(ResultOf(d, sp, objective, *c, max_h, MsSince(t0), stats, solver,
-                                std::nullopt, o.plan_out));
+                                known_bounds, o.plan_out));
     }
   }
   SolveOptions mono = o;
+  mono.bounds = bounds_of_whole();
   const long offset = MsSince(t0);
   mono.time_limit_ms = std::max(1L, o.time_limit_ms - offset);
   if (o.on_progress)
@@ -257,7 +267,7 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
   if (c.first_solution_ms >= 0) c.first_solution_ms += offset;
   if (found_ms >= 0) c.first_solution_ms = found_ms;
   return WithScope(
-      ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, o.bounds, o.plan_out));
+      ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, known_bounds, o.plan_out));
 }
 
 }  // namespace
