@@ -223,17 +223,27 @@ class Search {
     for (const Candidate* c : mine) at = std::min(at, c->earliest);
     std::vector<std::pair<int, int>> chosen, given;
     std::vector<char> taken(d_.automata.size(), 0);
+    // A candidate due at `at` whose automaton and commanded partners no chosen one holds.
+    auto fits = [&](const Candidate* c) {
+      if (c->earliest > at || c->latest < at || taken[c->automaton]) return false;
+      for (auto [a, cmd] : c->commands)
+        if (taken[a]) return false;
+      return true;
+    };
+    auto choose = [&](const Candidate* c) {
+      chosen.emplace_back(c->automaton, c->transition);
+      given.insert(given.end(), c->commands.begin(), c->commands.end());
+    };
+    auto take = [&](const Candidate* c) {
+      taken[c->automaton] = 1;
+      for (auto [a, cmd] : c->commands) taken[a] = 1;
+    };
     {
       int count = 0;
       for (const Candidate* c : mine) {
-        if (c->earliest > at || c->latest < at) continue;
-        bool free = !taken[c->automaton];
-        for (auto [a, cmd] : c->commands) free = free && !taken[a];
-        if (!free) continue;
-        chosen.emplace_back(c->automaton, c->transition);
-        given.insert(given.end(), c->commands.begin(), c->commands.end());
-        taken[c->automaton] = 1;
-        for (auto [a, cmd] : c->commands) taken[a] = 1;
+        if (!fits(c)) continue;
+        choose(c);
+        take(c);
         ++count;
       }
       if (count >= 2)
@@ -244,15 +254,10 @@ class Search {
     }
     int picked = 0;
     for (const Candidate* c : mine) {
-      if (c->earliest > at || c->latest < at) continue;
-      bool free = !taken[c->automaton];
-      for (auto [a, cmd] : c->commands) free = free && !taken[a];
-      if (!free) continue;
-      chosen.emplace_back(c->automaton, c->transition);
-      given.insert(given.end(), c->commands.begin(), c->commands.end());
+      if (!fits(c)) continue;
+      choose(c);
       if (ex_.Apply(n, v, chosen, at, given)) {
-        taken[c->automaton] = 1;
-        for (auto [a, cmd] : c->commands) taken[a] = 1;
+        take(c);
         ++picked;
       } else {
         chosen.pop_back();
