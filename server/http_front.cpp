@@ -12,11 +12,23 @@
 #include "server/log_context.h"
 #include "server/openapi_json.h"
 #include "server/stream.h"
+#include "server/worker_pool.h"
 #include "translator/text.h"
 
 namespace ctb::server {
 
 namespace {
+// cpp-httplib's task queue on our WorkerPool (server/worker_pool.h): threads on demand, the last
+// idle one reused first, idle ones retired, so glibc's per-thread caches stay few.
+class PoolQueue : public httplib::TaskQueue {
+ public:
+  explicit PoolQueue(int max_threads) : pool_({max_threads, std::chrono::seconds(30)}) {}
+  void enqueue(std::function<void()> fn) override { pool_.Enqueue(std::move(fn)); }
+  void shutdown() override { pool_.Shutdown(); }
+
+ private:
+  WorkerPool pool_;
+};
 
 using Clock = std::chrono::steady_clock;
 using app::Core;
@@ -323,7 +335,7 @@ class HttpFrontEnd::Impl {
     svr_.SetLimits(limits);
     svr_.set_keep_alive_timeout(cfg_.keep_alive_s);
     const int threads = cfg_.max_connections + 16;
-    svr_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    svr_.new_task_queue = [threads] { return new PoolQueue(threads); };
     svr_.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
       std::string id = req.get_header_value("X-Request-Id");
       res.set_header("X-Request-Id", SaneRequestId(id) ? id : app::RandomHex(8));
