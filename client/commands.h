@@ -69,7 +69,14 @@ Runner AddDomain(CLI::App& app);
 // (the answer of POST /networks/check), exit 0; or the located errors and exit 1.
 Runner AddNetwork(CLI::App& app);
 
-// `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT.
+// `ctburton serve [--port N] [--config FILE]`: the HTTP service until SIGTERM/SIGINT. Only in
+// ctburton-server, which links the server (gRPC, MQTT, HTTP).
 Runner AddServe(CLI::App& app);
+
+// In `ctburton`: replaces the process with ctburton-server from the same folder, with the same
+// arguments (same pid, so signals reach the service); returns 3 with a message if it cannot.
+int ExecServer(char** argv);
+// In `ctburton`: lists `serve` in --help (the call itself never gets here: main execs first).
+void AddServeEntry(CLI::App& app);
 
 }  // namespace ctb::cli

@@ -1,6 +1,7 @@
 // ctburton: the command-line tool. Thin: every subcommand calls the libraries.
 #include <csignal>
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -34,6 +35,9 @@ int Fail(const Error& e) {
 int main(int argc, char** argv) {
   // A peer that closes its socket must not kill the process (server and client alike).
   std::signal(SIGPIPE, SIG_IGN);
+#ifndef CTB_WITH_SERVER
+  if (argc > 1 && std::string(argv[1]) == "serve") return ctb::cli::ExecServer(argv);
+#endif
   // Logs go to stderr: stdout carries the JSON answers.
   spdlog::set_default_logger(spdlog::stderr_color_mt("ctburton"));
   spdlog::set_level(spdlog::level::warn);
@@ -43,7 +47,11 @@ int main(int argc, char** argv) {
   runners.push_back(ctb::cli::AddValidate(app));
   runners.push_back(ctb::cli::AddSolve(app));
   runners.push_back(ctb::cli::AddTranslate(app));
+#ifdef CTB_WITH_SERVER
   runners.push_back(ctb::cli::AddServe(app));
+#else
+  ctb::cli::AddServeEntry(app);
+#endif
   runners.push_back(ctb::cli::AddPlan(app));
   runners.push_back(ctb::cli::AddEval(app));
   runners.push_back(ctb::cli::AddSchema(app));
