@@ -1,7 +1,10 @@
 #include "planner/analyze/assignment.h"
 
 #include <algorithm>
+#include <functional>
+#include <limits>
 #include <map>
+#include <queue>
 
 namespace ctb {
 
@@ -83,6 +86,87 @@ long AssignmentBound(const Clauses& clauses, const std::vector<std::vector<long>
       lo = mid + 1;
   }
   return times[hi];
+}
+
+std::optional<long> MinCostAssignment(int columns, const std::vector<AssignmentRow>& rows) {
+  constexpr long kFar = std::numeric_limits<long>::max() / 4;
+  const int nr = static_cast<int>(rows.size());
+  // Each row's choices with one (the least) cost per column. Nodes: rows 0..nr-1, then columns.
+  std::vector<AssignmentRow> choice(rows.size());
+  for (int r = 0; r < nr; ++r) {
+    std::map<int, long> least;
+    for (auto [c, w] : rows[r]) {
+      auto [it, fresh] = least.emplace(c, w);
+      if (!fresh) it->second = std::min(it->second, w);
+    }
+    choice[r].assign(least.begin(), least.end());
+  }
+  auto cost_of = [&](int r, int c) {
+    return std::lower_bound(choice[r].begin(), choice[r].end(), std::make_pair(c, 0L))->second;
+  };
+  std::vector<long> pot(nr + columns, 0), dist(nr + columns, kFar);
+  std::vector<int> row_of(columns, -1), column_of(nr, -1), via(columns, -1);
+  std::vector<char> done(nr + columns, 0);
+  std::vector<int> touched;
+  using Item = std::pair<long, int>;  // (distance, node)
+  for (int s = 0; s < nr; ++s) {
+    if (choice[s].empty()) return std::nullopt;
+    // Every reduced cost w + pot[row] - pot[column] stays >= 0, the new row's too.
+    pot[s] = std::numeric_limits<long>::min();
+    for (auto [c, w] : choice[s]) pot[s] = std::max(pot[s], pot[nr + c] - w);
+    for (int v : touched) {
+      dist[v] = kFar;
+      done[v] = 0;
+    }
+    touched.assign(1, s);
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    dist[s] = 0;
+    heap.push({0, s});
+    int free_column = -1;
+    while (!heap.empty()) {
+      auto [du, u] = heap.top();
+      heap.pop();
+      if (done[u] || du > dist[u]) continue;
+      done[u] = 1;
+      auto reach = [&](int v, long dv) {
+        if (dv >= dist[v]) return;
+        if (dist[v] == kFar) touched.push_back(v);
+        dist[v] = dv;
+        heap.push({dv, v});
+      };
+      if (u < nr) {  // a row: to its other columns
+        for (auto [c, w] : choice[u]) {
+          if (c == column_of[u]) continue;
+          const long dv = du + w + pot[u] - pot[nr + c];
+          if (dv < dist[nr + c]) via[c] = u;
+          reach(nr + c, dv);
+        }
+      } else {  // a column: free ends the search; taken leads back to its row
+        const int c = u - nr;
+        if (row_of[c] < 0) {
+          free_column = c;
+          break;
+        }
+        const int r = row_of[c];
+        reach(r, du - cost_of(r, c) + pot[u] - pot[r]);
+      }
+    }
+    if (free_column < 0) return std::nullopt;
+    const long far = dist[nr + free_column];
+    for (int v : touched)
+      if (done[v] && dist[v] < far) pot[v] -= far - dist[v];
+    for (int c = free_column;;) {  // flip the path
+      const int r = via[c];
+      const int next = column_of[r];
+      column_of[r] = c;
+      row_of[c] = r;
+      if (r == s) break;
+      c = next;
+    }
+  }
+  long total = 0;
+  for (int r = 0; r < nr; ++r) total += cost_of(r, column_of[r]);
+  return total;
 }
 
 }  // namespace ctb

@@ -13,6 +13,8 @@
 // Depends on the model only; thread-safe.
 #pragma once
 
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "planner/analyze/clauses.h"
@@ -23,5 +25,15 @@ namespace ctb {
 // there are no clauses or no time at which the flow exists (nothing is claimed then).
 long AssignmentBound(const Clauses& clauses, const std::vector<std::vector<long>>& arrival,
                      long never);
+
+// A row's choices: (column, cost >= 0); a column listed twice keeps its cheaper cost.
+using AssignmentRow = std::vector<std::pair<int, long>>;
+
+// The least total cost of giving every row a column of its own (columns in [0, columns); a column
+// may stay unused): successive shortest augmenting paths with potentials (the Hungarian method
+// over sparse rows), each path searched from its row and stopped at the first free column, so a
+// row with one free choice costs one step. nullopt when no such assignment exists. Work about
+// rows x (edges log edges) at worst.
+std::optional<long> MinCostAssignment(int columns, const std::vector<AssignmentRow>& rows);
 
 }  // namespace ctb

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "planner/analyze/assignment.h"
+#include "planner/analyze/assignment_cost.h"
 #include "planner/analyze/clauses.h"
 #include "planner/analyze/relaxed_cost.h"
 #include "planner/analyze/workload.h"
@@ -105,7 +106,7 @@ ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ti
   return {objective, b.cost, b.makespan_ticks, ticks_per_second};
 }
 
-ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
+ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOptions& o) {
   const long tps = std::max(1L, std::lround(1.0 / d.time_resolution));
   const Weight by_cost = [](const Transition& t) { return t.cost; };
   const Weight by_time = [tps](const Transition& t) {
@@ -160,6 +161,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp) {
     b.makespan_ticks = std::max(b.makespan_ticks, std::lround(t.lower * static_cast<double>(tps)));
   // The delete relaxation counts the help automata give each other (analyze/relaxed_cost.h).
   if (auto relaxed = RelaxedCostBound(d, sp)) b.cost = std::max(b.cost, *relaxed);
+  // A goal whose clauses several automata may serve, each automaton at its own cost
+  // (analyze/assignment_cost.h).
+  if (o.assignment_cost) b.cost = std::max(b.cost, AssignmentCostBound(d, sp, visits, own_cost));
   // Guards, dwell in an episode's location and the state plan's temporal network.
   const auto earliest = ComputeEarliestTimes(d, sp);
   if (earliest && earliest->goal < EarliestTimes::kNever)

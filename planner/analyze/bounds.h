@@ -26,11 +26,18 @@ struct ObjectiveBounds {
 // location is first entered, and a temporal constraint's lower bound passes before the goal.
 // Guards add visits (landmarks): when an automaton cannot reach a location it must enter without
 // a transition whose guard needs another automaton in some location, that one must go there.
+// The cost bound is also at least the delete relaxation's (analyze/relaxed_cost.h) and, for a goal
+// whose clauses several automata may serve, the assignment of clauses to automata at their own
+// costs (analyze/assignment_cost.h).
 // The makespan bound is also at least the earliest goal time (analyze/earliest.h) and, for a goal
 // on one stage that several automata may serve, the assignment bound (analyze/assignment.h). The event
 // bound (the first horizon the search tries) counts each transition as an event of its own, and
 // the earliest-times rules in events.
-ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp);
+struct BoundOptions {
+  // The assignment bound on cost (analyze/assignment_cost.h); off only to check it (tests).
+  bool assignment_cost = true;
+};
+ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOptions& o = {});
 
 // True when a plan of this cost and makespan meets the bounds (so no plan is better).
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
 #include <utility>
 #include <vector>
 
+#include "planner/analyze/clauses.h"
 #include "planner/analyze/earliest.h"  // RequiredLocations
 
 namespace ctb {
@@ -59,25 +61,41 @@ struct Action {
   long cost = 0;
 };
 
-// The relaxed task: facts are (automaton, location) pairs plus one goal fact (the last).
+// The relaxed task: facts are (automaton, location) pairs, then the goal fact, then one for the
+// goal's alternatives and one per goal clause.
 class RelaxedTask {
  public:
-  RelaxedTask(const Domain& d, const StatePlan& sp) {
+  // Transitions of the automata marked in `free_automata` cost 0; no action adds a fact of
+  // `avoid`.
+  RelaxedTask(const Domain& d, const StatePlan& sp, const std::vector<char>& free_automata = {},
+              const std::vector<std::pair<int, int>>& avoid = {}) {
+    const std::set<std::pair<int, int>> avoided(avoid.begin(), avoid.end());
     for (const auto& a : d.automata) {
       offset_.push_back(facts_);
       facts_ += static_cast<int>(a.locations.size());
     }
     goal_ = facts_++;
     for (std::size_t a = 0; a < d.automata.size(); ++a) {
+      const bool free = a < free_automata.size() && free_automata[a];
       init_.push_back(Fact(static_cast<int>(a), sp.initial[a]));
-      for (const Transition& t : d.automata[a].transitions)
+      for (const Transition& t : d.automata[a].transitions) {
+        if (avoided.count({static_cast<int>(a), t.to})) continue;
         for (const Atoms& alt : Alternatives(t.guard)) {
-          Action act{{Fact(static_cast<int>(a), t.from)}, Fact(static_cast<int>(a), t.to), t.cost};
+          Action act{{Fact(static_cast<int>(a), t.from)}, Fact(static_cast<int>(a), t.to),
+                     free ? 0 : t.cost};
           for (auto [b, l] : alt) act.pre.push_back(Fact(b, l));
           actions_.push_back(std::move(act));
         }
+      }
     }
     AddGoal(sp);
+  }
+
+  // True when h_max reaches the goal (a relaxed plan exists).
+  bool Reachable() {
+    std::vector<long> cost;
+    for (const Action& a : actions_) cost.push_back(a.cost);
+    return HMax(cost)[goal_] < kInf;
   }
 
   // LM-cut: repeatedly find a cut of actions every relaxed plan uses (from the h_max
@@ -110,19 +128,31 @@ class RelaxedTask {
  private:
   int Fact(int a, int l) const { return offset_[a] + l; }
 
+  // The goal fact needs one of the goal's alternatives (a fact of its own), each of its clauses
+  // (one fact each) and the locations the episodes and temporal constraints need. Every plan
+  // meets all of them, so reading the goal both ways is still a relaxation.
   void AddGoal(const StatePlan& sp) {
+    Action goal{{}, goal_, 0};
     Atoms visits;
     for (const auto& e : sp.episodes) RequiredLocations(e.accepting.expr, visits);
     for (const auto& t : sp.temporals) {
       RequiredLocations(t.event1.expr, visits);
       RequiredLocations(t.event2.expr, visits);
     }
+    for (auto [a, l] : visits) goal.pre.push_back(Fact(a, l));
+    const int alternative = facts_++;
+    goal.pre.push_back(alternative);
     for (const Atoms& alt : Alternatives(sp.goal.expr)) {
-      Action act{{}, goal_, 0};
+      Action act{{}, alternative, 0};
       for (auto [a, l] : alt) act.pre.push_back(Fact(a, l));
-      for (auto [a, l] : visits) act.pre.push_back(Fact(a, l));
       actions_.push_back(std::move(act));
     }
+    for (const Clause& c : ToClauses(sp.goal.expr)) {
+      const int clause = facts_++;
+      goal.pre.push_back(clause);
+      for (auto [a, l] : c) actions_.push_back(Action{{Fact(a, l)}, clause, 0});
+    }
+    actions_.push_back(std::move(goal));
   }
 
   // h_max of every fact under the given action costs (a fixpoint; costs are non-negative).
@@ -197,8 +227,14 @@ class RelaxedTask {
 
 }  // namespace
 
-std::optional<long> RelaxedCostBound(const Domain& d, const StatePlan& sp) {
-  return RelaxedTask(d, sp).LmCut();
+std::optional<long> RelaxedCostBound(const Domain& d, const StatePlan& sp,
+                                     const std::vector<char>& free_automata) {
+  return RelaxedTask(d, sp, free_automata).LmCut();
+}
+
+bool RelaxedReachableAvoiding(const Domain& d, const StatePlan& sp,
+                              const std::vector<std::pair<int, int>>& facts) {
+  return RelaxedTask(d, sp, {}, facts).Reachable();
 }
 
 }  // namespace ctb

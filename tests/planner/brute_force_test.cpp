@@ -22,6 +22,7 @@
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
 #include "random_helpers.h"
+#include "random_teams.h"
 #include "random_actions.h"
 #include "random_problem.h"
 #include "test_util.h"
@@ -519,6 +520,95 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
             << " times\n";
   EXPECT_GE(compared, 12);
   EXPECT_GE(bites, 6);
+}
+
+// The assignment bound on cost (analyze/assignment_cost.h, issue 29 item 2) on random teams
+// (random_teams.h): agents of random costs serving the goal's clauses, a gate one of them must
+// open. Tiny ones (every way one step, durations 0): every plan the enumeration finds obeys every
+// bound, and the planner, with the bound, finds the enumeration's optimum.
+TEST(BruteForce, AssignmentCostBoundHoldsOnTinyTeams) {
+  testing::TeamShape shape;
+  shape.tiny = true;
+  shape.max_agents = 2;
+  shape.max_persons = 2;
+  shape.max_duration = 0;
+  int compared = 0, feasible = 0, bites = 0;
+  for (unsigned seed = 9000; seed < 9030; ++seed) {
+    testing::TeamProblemGenerator gen(seed, shape);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    bites += LowerBounds(*d, *sp).cost > LowerBounds(*d, *sp, {.assignment_cost = false}).cost;
+    const Truth t = CompareWithTruth(p, seed);
+    if (t == Truth::kSkipped) continue;
+    feasible += t == Truth::kFeasible;
+    ++compared;
+  }
+  std::cout << compared << " compared, " << feasible << " feasible, the assignment cost bound raised "
+            << "the bound on " << bites << "\n";
+  EXPECT_GE(compared, 25);
+  EXPECT_GE(feasible, 15);
+  EXPECT_GE(bites, 5);
+}
+
+// Larger teams (up to 3 agents, 2 persons, ways of two steps, durations, an episode): the bound
+// never exceeds the exact optimum (Gecode alone, told no bound, every plan with at most 10
+// events), and the planner answers the same with the bound and without it.
+TEST(BruteForce, AssignmentCostBoundBelowExactOptimaOfTeams) {
+  int compared = 0, bites = 0, tight = 0;
+  for (unsigned seed = 9100; seed < 9124; ++seed) {
+    testing::TeamProblemGenerator gen(seed);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    const ObjectiveBounds on = LowerBounds(*d, *sp);
+    const ObjectiveBounds off = LowerBounds(*d, *sp, {.assignment_cost = false});
+    SolveOptions exact;
+    exact.max_horizon = 10;
+    exact.time_limit_ms = 120000;
+    exact.search = "g_first";
+    exact.first_plan_ms = 0;
+    exact.bounds = ObjectiveBounds{};  // no bound to stop at or constrain
+    exact.objective = Objective::kCost;
+    auto r = SolveDocument(*d, *sp, exact);
+    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
+    const Json& truth = std::get<Json>(r);
+    ASSERT_TRUE(truth["status"] == "optimal" || truth["status"] == "infeasible")
+        << "seed " << seed << ": undecided " << truth["status"] << "\n" << p.Describe();
+    if (truth["status"] != "optimal") continue;
+    const long optimum = truth["objective"]["value"].get<long>();
+    EXPECT_LE(on.cost, optimum) << "seed " << seed << ": THE COST BOUND " << on.cost
+                                << " IS ABOVE THE OPTIMUM " << optimum << " (without the "
+                                << "assignment bound " << off.cost << ")\n" << p.Describe();
+    bites += on.cost > off.cost;
+    tight += on.cost == optimum;
+    // The planner's answer, with the bound and without it, in the state plan's own objective.
+    std::vector<Json> answers;
+    for (const ObjectiveBounds& b : {on, off}) {
+      SolveOptions o;
+      o.max_horizon = 10;
+      o.time_limit_ms = 120000;
+      o.bounds = b;
+      auto x = SolveDocument(*d, *sp, o);
+      ASSERT_TRUE(std::holds_alternative<Json>(x)) << std::get<Error>(x).ToString() << p.Describe();
+      answers.push_back(std::get<Json>(x));
+    }
+    EXPECT_EQ(answers[0]["status"], "optimal") << "seed " << seed << "\n" << p.Describe();
+    EXPECT_EQ(answers[0]["status"], answers[1]["status"]) << "seed " << seed << "\n" << p.Describe();
+    EXPECT_EQ(answers[0]["objective"], answers[1]["objective"]) << "seed " << seed << "\n"
+                                                                << p.Describe();
+    ++compared;
+  }
+  std::cout << compared << " compared, the assignment cost bound raised the bound on " << bites
+            << ", equal to the optimum on " << tight << "\n";
+  EXPECT_GE(compared, 18);
+  EXPECT_GE(bites, 5);
 }
 
 }  // namespace
