@@ -56,9 +56,9 @@ std::variant<LocalProblem, Error> OpenLocalProblem(const std::string& domain, co
                                                    const std::string& file) {
   const std::string config = config_dir.empty() ? DefaultConfigDir() : config_dir;
   Diagnostics d;
-  auto loaded = LoadDomainByNameOrPath(domain, config, d);
+  auto loaded = LoadDomainByNameOrPath(domain, config, d, nullptr, LocalFileLimits());
   if (!loaded) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", d);
-  auto state_plan = ReadJsonFile(file, d);
+  auto state_plan = ReadJsonFile(file, d, LocalFileLimits());
   if (!state_plan) return Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + file, d);
   auto opened = OpenLocalCore(config, /*with_llm=*/false);
   if (auto* e = std::get_if<Error>(&opened)) return *e;

@@ -31,6 +31,7 @@ struct SolveCliOptions {
   std::string server;
   std::string pddl_plan;                 // write the plan here as PDDL 2.1
   bool compact = false;                  // the answer as HTTP sends it (one line)
+  bool max_horizon_given = false;
   std::vector<std::string> pddl_files;  // the PDDL domain (and problem) the model came from
 };
 
@@ -59,6 +60,39 @@ bool WritePddlPlan(const SolveCliOptions& o, const Json& trajectory) {
   out << pddl::PddlPlan(trajectory, std::get<pddl::Imported>(r).actions);
   if (!out) std::cerr << "error: cannot write " << o.pddl_plan << "\n";
   return static_cast<bool>(out);
+}
+
+// Without --domain, `--pddl DOMAIN PROBLEM` imported here (the core's PDDL import, as `domain
+// import-pddl` does): the model, the state plan and the actions' names, with no JSON file between.
+struct DirectPddl {
+  Json action_model, state_plan;
+  std::vector<pddl::PlanAction> actions;
+};
+
+std::optional<DirectPddl> ImportForSolve(app::Core& core, const SolveCliOptions& o) {
+  app::PddlImportCall call;
+  for (std::size_t k = 0; k < o.pddl_files.size(); ++k) {
+    std::ifstream in(o.pddl_files[k]);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) {
+      std::cerr << "error: cannot read " << o.pddl_files[k] << "\n";
+      return std::nullopt;
+    }
+    (k == 0 ? call.domain : call.problem) = text.str();
+  }
+  auto r = core.ImportPddl(call);
+  if (auto* e = std::get_if<Error>(&r)) {
+    for (const auto& d : e->details) std::cerr << "error: " << d.message << "\n";
+    if (e->details.empty()) std::cerr << "error: " << e->message << "\n";
+    return std::nullopt;
+  }
+  auto& im = std::get<app::PddlImportAnswer>(r);
+  for (const auto& w : im.warnings) std::cerr << "warning: " << w.value("message", "") << "\n";
+  DirectPddl out{std::move(im.action_model), std::move(im.state_plan), {}};
+  for (const auto& a : im.actions)
+    out.actions.push_back({a["command"], a["automaton"], a["pddl"], a["durative"]});
+  return out;
 }
 
 // --server: POST /solve with the domain's name (or the file as action_model) and the plan.
@@ -91,19 +125,39 @@ int RunRemoteSolve(const SolveCliOptions& o) {
 }
 
 int RunSolve(const SolveCliOptions& o) {
-  if (!o.server.empty()) return RunRemoteSolve(o);
-  std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
-  Diagnostics dd;
-  auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
-  if (!domain) {
-    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
+  const bool direct = o.domain.empty();  // --pddl DOMAIN PROBLEM imported here
+  if (direct && (o.pddl_files.size() != 2 || !o.file.empty())) {
+    std::cerr << "error: give --domain and a state plan file, or --pddl DOMAIN PROBLEM alone\n";
     return 2;
   }
-  Diagnostics diags;
-  auto json = ReadJsonFile(o.file, diags);
-  if (!json) {
-    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
-    return 1;
+  if (!direct && o.file.empty()) {
+    std::cerr << "error: the state plan file is missing\n";
+    return 2;
+  }
+  if (!o.server.empty()) {
+    if (direct) {
+      std::cerr << "error: --server takes --domain and a state plan file\n";
+      return 2;
+    }
+    return RunRemoteSolve(o);
+  }
+  std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
+  std::optional<Domain> domain;
+  std::optional<Json> json;
+  if (!direct) {
+    // Local files: LocalFileLimits (256 MiB), not the 4 MiB of an HTTP body.
+    Diagnostics dd;
+    domain = LoadDomainByNameOrPath(o.domain, config, dd, nullptr, LocalFileLimits());
+    if (!domain) {
+      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
+      return 2;
+    }
+    Diagnostics diags;
+    json = ReadJsonFile(o.file, diags, LocalFileLimits());
+    if (!json) {
+      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
+      return 1;
+    }
   }
   if (!o.objective.empty() && !ParseObjective(o.objective)) {
     std::cerr << "error: unknown objective '" << o.objective << "'\n";
@@ -116,6 +170,18 @@ int RunSolve(const SolveCliOptions& o) {
   }
   auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
   app::SolveCall call;
+  std::optional<DirectPddl> imported;
+  if (direct) {
+    imported = ImportForSolve(core, o);
+    if (!imported) return 1;
+    Diagnostics dd;
+    domain = LoadDomain(imported->action_model, dd);
+    if (!domain) {  // the import checks that its model loads: not expected
+      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid imported domain", dd));
+      return 2;
+    }
+    json = imported->state_plan;
+  }
   call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
   call.state_plan = *json;
   if (!o.objective.empty()) call.options.objective = o.objective;
@@ -123,7 +189,7 @@ int RunSolve(const SolveCliOptions& o) {
   call.options.risk_bound = o.risk_bound;
   call.options.time_limit_ms = o.time_limit_ms;
   if (o.horizon) call.options.horizon = *o.horizon;
-  else call.options.max_horizon = o.max_horizon;
+  else call.options.max_horizon = direct && !o.max_horizon_given ? kMaxHorizonLimit : o.max_horizon;
   call.tune = [&o](SolveOptions& so) {
     so.threads = o.threads;
     so.search = o.search;
@@ -142,7 +208,18 @@ int RunSolve(const SolveCliOptions& o) {
   }
   const Json& answer = std::get<app::Answer>(result).document;
   std::cout << (o.compact ? WireText(answer) : PrettyText(answer)) << "\n";
-  if (!o.pddl_plan.empty() && !WritePddlPlan(o, answer)) return 3;
+  if (!o.pddl_plan.empty()) {
+    if (imported) {
+      std::ofstream out(o.pddl_plan);
+      out << pddl::PddlPlan(answer, imported->actions);
+      if (!out) {
+        std::cerr << "error: cannot write " << o.pddl_plan << "\n";
+        return 3;
+      }
+    } else if (!WritePddlPlan(o, answer)) {
+      return 3;
+    }
+  }
   return 0;
 }
 }  // namespace
@@ -150,8 +227,9 @@ int RunSolve(const SolveCliOptions& o) {
 Runner AddSolve(CLI::App& app) {
   auto o = std::make_shared<SolveCliOptions>();
   CLI::App* sub = app.add_subcommand("solve", "Solve a state plan and print the trajectory JSON");
-  sub->add_option("--domain", o->domain, "Domain name or path")->required();
-  sub->add_option("file", o->file, "State plan JSON file")->required();
+  sub->add_option("--domain", o->domain,
+                  "Domain name or path (required unless --pddl gives a domain and a problem)");
+  sub->add_option("file", o->file, "State plan JSON file (with --domain)");
   sub->add_option("--objective", o->objective, "cost, makespan or cost_then_makespan");
   sub->add_option("--controllability", o->controllability,
                   "contingent transitions: dynamic (default where there are any), strong or none")
@@ -163,7 +241,8 @@ Runner AddSolve(CLI::App& app) {
       ->check(CLI::Range(1L, 3600L * 1000));
   auto* h = sub->add_option("--horizon", o->horizon, "Fixed number of events")
                 ->check(CLI::Range(0, kMaxHorizonLimit));
-  sub->add_option("--max-horizon", o->max_horizon, "Most events tried (default 32)")
+  sub->add_option("--max-horizon", o->max_horizon,
+                  "Most events tried (default 32; 200 with --pddl DOMAIN PROBLEM alone)")
       ->check(CLI::Range(0, kMaxHorizonLimit))
       ->excludes(h);
   sub->add_option("--threads", o->threads, "Gecode threads")->check(CLI::Range(1, 64));
@@ -181,7 +260,8 @@ Runner AddSolve(CLI::App& app) {
       ->check(CLI::Range(-1L, 3600L * 1000));
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   auto* pddl = sub->add_option("--pddl", o->pddl_files,
-                               "The PDDL domain and problem the model was imported from")
+                               "The PDDL domain and problem the model was imported from; "
+                               "without --domain, imported and solved directly")
                    ->expected(1, 2)
                    ->check(CLI::ExistingFile);
   sub->add_option("--pddl-plan", o->pddl_plan,
@@ -189,7 +269,11 @@ Runner AddSolve(CLI::App& app) {
       ->needs(pddl);
   sub->add_option("--config-dir", o->config_dir, "Configuration directory");
   sub->add_option("--server", o->server, "Solve on a running ctburton server, e.g. http://127.0.0.1:8080");
-  return [o, sub]() { return sub->parsed() ? RunSolve(*o) : -1; };
+  return [o, sub]() {
+    if (!sub->parsed()) return -1;
+    o->max_horizon_given = sub->count("--max-horizon") > 0;
+    return RunSolve(*o);
+  };
 }
 
 }  // namespace ctb::cli

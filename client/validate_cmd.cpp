@@ -26,14 +26,14 @@ int Invalid(const std::string& file, const std::vector<Diagnostic>& errors) {
 int RunValidate(const ValidateOptions& o) {
   const std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
   Diagnostics dd;
-  auto domain = LoadDomainByNameOrPath(o.domain, config, dd);
+  auto domain = LoadDomainByNameOrPath(o.domain, config, dd, nullptr, LocalFileLimits());
   if (!domain) {
     std::cout << "invalid domain\n";
     for (const auto& e : dd.errors()) std::cout << e.ToString() << "\n";
     return 2;
   }
   Diagnostics diags;
-  auto json = ReadJsonFile(o.file, diags);
+  auto json = ReadJsonFile(o.file, diags, LocalFileLimits());
   if (!json) return Invalid(o.file, diags.errors());
   auto opened = OpenLocalCore(config, /*with_llm=*/false);
   if (auto* e = std::get_if<Error>(&opened)) return Fail(*e);

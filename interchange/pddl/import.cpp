@@ -52,6 +52,7 @@ std::variant<Imported, std::vector<Issue>> ImportPddl(const Source& domain,
   if (!sv) return issues;
   auto g = Ground(*d, *sv, p ? &*p : nullptr, options, issues, out.warnings);
   if (!g) return issues;
+  if (p && p->goal && !options.keep_irrelevant) out.irrelevant_actions = DropIrrelevant(*sv, *p->goal, *g);
   auto w = WriteModel(*d, *sv, *g, p ? &*p : nullptr, options, issues);
   if (!w || !CheckLoads(*w, domain.file, issues)) return issues;
   out.warnings.insert(out.warnings.end(), w->warnings.begin(), w->warnings.end());

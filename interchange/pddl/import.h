@@ -45,6 +45,9 @@ struct Source {
 struct ImportOptions {
   std::string name;                        // the domain's name; "" = the PDDL domain's, sanitized
   std::size_t max_ground_actions = 20000;  // beyond this the import is refused
+  // With a problem, ground actions that cannot help reach its goal are left out of the model
+  // (DropIrrelevant, docs/pddl.md); true keeps them (a model to reuse with other goals).
+  bool keep_irrelevant = false;
 };
 
 // A ground action as the model names it: its command, the automaton whose transitions on that
@@ -60,7 +63,8 @@ struct Imported {
   Json domain;      // an action model (contract section 2) that LoadDomain accepts
   Json state_plan;  // with a problem: initial state, goal, objective; else null
   std::vector<Issue> warnings;
-  std::size_t ground_actions = 0;
+  std::size_t ground_actions = 0;     // in the model
+  std::size_t irrelevant_actions = 0;  // ground, but left out: they cannot help reach the goal
   std::vector<PlanAction> actions;  // those that appear in the model
 };
 

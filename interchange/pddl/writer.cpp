@@ -174,7 +174,43 @@ std::optional<Writer::Plan> Writer::MakePlan(std::size_t x) {
     }
     if (plan.sources[u].empty()) return std::nullopt;
   }
+  // Starting from an idle source (the variable keeps its value throughout: no effect on it, or
+  // effects that give it the value it has) changes nothing there. An action idle on every
+  // variable it changes changes no state at all (its steps hold the values they came from): it is
+  // never needed, and offering it lets a search pass time with it. The one-variable case drops the
+  // idle sources; with several, Idle() guards them (WriteAction).
+  for (const VarUse* u : plan.changed)
+    for (const auto& s : plan.sources[u])
+      if (IdleSource(*u, s)) plan.idle[u].insert(s);
+  if (plan.changed.size() == 1) {
+    const VarUse* u = plan.changed[0];
+    std::erase_if(plan.sources[u], [&](const std::string& s) { return plan.idle[u].count(s) > 0; });
+    plan.idle.clear();
+    if (plan.sources[u].empty()) return std::nullopt;
+  }
   return plan;
+}
+
+bool Writer::IdleSource(const VarUse& u, const std::string& s) {
+  return (!u.eff_start || *u.eff_start == s) && (!u.eff_end || *u.eff_end == s);
+}
+
+// The guard of a start from an idle source of u: another changed variable starts from a source
+// that is not idle ("true" when u's source is not idle; "false" when no other variable can).
+std::string Writer::NotAllIdle(const Plan& plan, const VarUse* u, const std::string& source) {
+  auto idle = plan.idle.find(u);
+  if (idle == plan.idle.end() || !idle->second.count(source)) return "true";
+  std::vector<std::string> some;
+  for (const VarUse* w : plan.changed) {
+    if (w == u) continue;
+    auto wi = plan.idle.find(w);
+    std::vector<int> busy;
+    for (const auto& s : plan.sources.at(w))
+      if (wi == plan.idle.end() || !wi->second.count(s)) busy.push_back(LocOf(VarIndex(w->var), s, ""));
+    if (!busy.empty()) some.push_back(InLocs(VarIndex(w->var), busy, "i"));
+  }
+  if (some.empty()) return "false";
+  return some.size() == 1 ? some[0] : "(" + Join(some, " \\/ ") + ")";
 }
 
 // Guard atoms for what the action reads of a variable it does not change, at start (first 0, last
@@ -230,6 +266,7 @@ void Writer::WriteAction(std::size_t x) {
     std::vector<int> locs;
     for (const auto& s : plan->sources[u]) locs.push_back(LocOf(v, s, ""));
     source_atom[u] = InLocs(v, locs, "i");
+    event_sources_[{static_cast<int>(x), v, true}] = locs;
   }
   for (const VarUse* u : plan->read_start) {
     int v = VarIndex(u->var);
@@ -253,6 +290,8 @@ void Writer::WriteAction(std::size_t x) {
     std::set<std::string> posts;
     for (const auto& s : plan->sources[u]) posts.insert(u->eff_start.value_or(s));
     for (const auto& s : plan->sources[u]) {
+      const std::string idle = NotAllIdle(*plan, u, s);
+      if (idle == "false") continue;
       std::string post = u->eff_start.value_or(s);
       std::string step = posts.size() == 1 ? cmd_[x] : cmd_[x] + "_" + ValueName(u->var, post);
       int to = ends(u) ? LocOf(v, post, step) : LocOf(v, post, "");
@@ -261,7 +300,9 @@ void Writer::WriteAction(std::size_t x) {
       int from = LocOf(v, s, "");
       if (from == to) continue;
       int cost = v == timing_[x] ? (durative ? 1 : 2) : 0;
-      trans_.push_back(Trans{v, from, to, guard, std::nullopt, cost, static_cast<int>(x), true});
+      std::vector<std::string> g = guard;
+      if (idle != "true") g.push_back(idle);
+      trans_.push_back(Trans{v, from, to, g, std::nullopt, cost, static_cast<int>(x), true});
     }
   }
   if (!durative) return;
@@ -283,6 +324,7 @@ void Writer::WriteAction(std::size_t x) {
     }
   for (const VarUse* u : plan->at_end) {
     int v = VarIndex(u->var);
+    event_sources_[{static_cast<int>(x), v, false}] = steps[u];
     std::vector<std::string> guard{automaton_[v] + "u[i]==" + cmd_[x]};
     for (const VarUse* o : plan->at_end)
       if (o != u) {

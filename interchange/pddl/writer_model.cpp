@@ -88,11 +88,52 @@ void Writer::WriteProtections() {
   std::vector<std::vector<std::size_t>> copies(protect_.size());
   for (std::size_t k = protect_.size(); k < trans_.size(); ++k)
     if (trans_[k].copy_of >= 0) copies[trans_[k].copy_of].push_back(k);
+  std::vector<std::string> text(protect_.size());
   for (std::size_t k = 0; k < protect_.size(); ++k) {
     if (protect_[k].empty()) continue;
-    std::string text = ProtectText(protect_[k], coarse[k]);
-    trans_[k].guard.push_back(text);
-    for (std::size_t c : copies[k]) trans_[c].guard.push_back(text);
+    text[k] = ProtectText(protect_[k], coarse[k]);
+    trans_[k].guard.push_back(text[k]);
+    for (std::size_t c : copies[k]) trans_[c].guard.push_back(text[k]);
+  }
+  ProtectPartners(text);
+}
+
+// A protected transition holds back the whole event of its action, not only its own automaton:
+// every other transition of that event (its partners, and their run automata's copies) gets "the
+// protected automaton is not where its transition would break the condition, or the protection
+// holds". Without it the partners moved on the command while the protected automaton stayed (an
+// action half applied, which PDDL 2.1 does not allow: a plan that was not one).
+void Writer::ProtectPartners(const std::vector<std::string>& text) {
+  std::map<std::pair<int, bool>, std::vector<std::size_t>> events;  // (action, start)
+  std::vector<std::vector<std::size_t>> copies(trans_.size());
+  for (std::size_t k = 0; k < trans_.size(); ++k) {
+    const Trans& t = trans_[k];
+    if (t.copy_of >= 0) copies[t.copy_of].push_back(k);
+    else if (t.action >= 0) events[{t.action, t.start}].push_back(k);
+  }
+  for (const auto& [event, members] : events) {
+    // Per protected variable and protection: the locations it breaks the condition from.
+    std::map<std::pair<int, std::string>, std::set<int>> held;
+    for (std::size_t k : members)
+      if (k < text.size() && !text[k].empty()) held[{trans_[k].var, text[k]}].insert(trans_[k].from);
+    for (const auto& [key, froms] : held) {
+      const auto& [v, protection] = key;
+      auto src = event_sources_.find({event.first, v, event.second});
+      bool all = src != event_sources_.end() &&
+                 std::all_of(src->second.begin(), src->second.end(),
+                             [&](int l) { return froms.count(l) > 0; });
+      std::string atom = "(" + protection + ")";
+      if (!all) {
+        std::vector<std::string> away;
+        for (int l : froms) away.push_back(automaton_[v] + "l[i]!=" + locs_[v][l].name);
+        atom = "((" + Join(away, " /\\ ") + ") \\/ (" + protection + "))";
+      }
+      for (std::size_t p : members) {
+        if (trans_[p].var == v) continue;
+        trans_[p].guard.push_back(atom);
+        for (std::size_t c : copies[p]) trans_[c].guard.push_back(atom);
+      }
+    }
   }
 }
 

@@ -18,7 +18,7 @@ std::string DefaultConfigDir() {
 
 std::optional<Domain> LoadDomainByNameOrPath(const std::string& name_or_path,
                                              const std::string& config_dir, Diagnostics& diags,
-                                             bool* not_found) {
+                                             bool* not_found, const ParseLimits& limits) {
   bool is_path = name_or_path.find('/') != std::string::npos ||
                  (name_or_path.size() > 5 &&
                   name_or_path.compare(name_or_path.size() - 5, 5, ".json") == 0);
@@ -40,7 +40,7 @@ std::optional<Domain> LoadDomainByNameOrPath(const std::string& name_or_path,
     if (not_found) *not_found = true;
     return std::nullopt;
   }
-  return LoadDomainFile(path, diags);
+  return LoadDomainFile(path, diags, limits);
 }
 
 }  // namespace ctb

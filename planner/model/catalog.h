@@ -13,9 +13,11 @@ namespace ctb {
 std::string DefaultConfigDir();
 
 // Loads a domain given as a NAME (an identifier: config_dir/domains/NAME.json; unknown names are
-// kNotFound-style errors at pointer "/domain") or as a PATH (contains '/' or ends in ".json").
+// kNotFound-style errors at pointer "/domain") or as a PATH (contains '/' or ends in ".json"),
+// read under `limits` (the command line passes LocalFileLimits()).
 std::optional<Domain> LoadDomainByNameOrPath(const std::string& name_or_path,
                                              const std::string& config_dir, Diagnostics& diags,
-                                             bool* not_found = nullptr);
+                                             bool* not_found = nullptr,
+                                             const ParseLimits& limits = {});
 
 }  // namespace ctb

@@ -425,9 +425,10 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const Expand
   return d;
 }
 
-std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags) {
+std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags,
+                                     const ParseLimits& limits) {
   Diagnostics local;
-  auto j = ReadJsonFile(path, local);
+  auto j = ReadJsonFile(path, local, limits);
   std::optional<Domain> d;
   if (j) d = LoadDomain(*j, local);
   for (const auto& e : local.errors())

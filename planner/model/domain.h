@@ -87,7 +87,8 @@ std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags);
 // document, also when the domain does not load (unless the expansion itself failed).
 std::optional<Domain> LoadDomain(const Json& j, Diagnostics& diags, const ExpandOptions& options,
                                  Expansion* expansion = nullptr);
-std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags);
+std::optional<Domain> LoadDomainFile(const std::string& path, Diagnostics& diags,
+                                     const ParseLimits& limits = {});
 
 // Serializes a loaded domain back to the contract's JSON (for GET /domains/{name}).
 Json DomainToJson(const Domain& d);

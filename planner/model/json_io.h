@@ -21,6 +21,10 @@ struct ParseLimits {
   int max_depth = 64;
 };
 
+// Files a local user hands the command line (their own disk, not an untrusted body): 256 MiB,
+// room for an imported PDDL model (IPC parking: 71 MB). The HTTP front end keeps its own limits.
+inline ParseLimits LocalFileLimits() { return {std::size_t{256} << 20, 64}; }
+
 // Parses text as one JSON document. Rejects (with a diagnostic at pointer "" and the byte
 // offset): empty input, syntax errors, NaN/Infinity, numbers that overflow a double, nesting
 // deeper than limits.max_depth, duplicate keys in an object, invalid UTF-8, and input longer

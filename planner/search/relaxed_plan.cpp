@@ -47,6 +47,16 @@ std::vector<Atoms> Alternatives(const Expr& e) {
   }
 }
 
+// The top-level conjuncts of e that are "automaton != location" atoms.
+void RefusedAtoms(const Expr& e, std::vector<Atoms>& out) {
+  if (e.op == Expr::Op::kAnd) {
+    for (const Expr& k : e.kids) RefusedAtoms(k, out);
+  } else if (e.op == Expr::Op::kAtom && e.var_kind == VarKind::kLocation && e.not_equal &&
+             e.index.kind != IndexKind::kFixed) {
+    out[0].emplace_back(e.target, e.value_code);
+  }
+}
+
 }  // namespace
 
 RelaxedPlan::RelaxedPlan(const Domain& d, const StatePlan& sp, Objective objective,
@@ -57,6 +67,37 @@ RelaxedPlan::RelaxedPlan(const Domain& d, const StatePlan& sp, Objective objecti
     facts_ += static_cast<int>(a.locations.size());
   }
   pre_of_.resize(facts_);
+  out_of_.resize(facts_);
+  stays_.resize(d.automata.size());
+  // The events transitions fire on together: a union of each commanded transition with the
+  // transitions on the commands its guard requires of other automata.
+  std::vector<int> first(d.automata.size() + 1, 0);
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    first[a + 1] = first[a] + static_cast<int>(d.automata[a].transitions.size());
+  std::vector<int> parent(first.back());
+  for (int i = 0; i < first.back(); ++i) parent[i] = i;
+  std::function<int(int)> root = [&](int i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+  for (std::size_t a = 0; a < d.automata.size(); ++a) {
+    const auto& trs = d.automata[a].transitions;
+    for (std::size_t ti = 0; ti < trs.size(); ++ti) {
+      const Transition& tr = trs[ti];
+      if (!tr.commanded || tr.command <= 0) continue;
+      for (int b : tr.guard_info.commands_read) {
+        const int want = RequiredCommand(tr.guard, b);
+        if (want <= 0 || b == static_cast<int>(a)) continue;
+        const auto& other = d.automata[b].transitions;
+        for (std::size_t tj = 0; tj < other.size(); ++tj)
+          if (other[tj].commanded && other[tj].command == want)
+            parent[root(first[a] + static_cast<int>(ti))] = root(first[b] + static_cast<int>(tj));
+      }
+    }
+  }
+  std::vector<int> numbered(first.back(), -1), group_of(first.back());
+  for (int i = 0; i < first.back(); ++i) {
+    int& g = numbered[root(i)];
+    if (g < 0) g = groups_++;
+    group_of[i] = g;
+  }
   for (std::size_t a = 0; a < d.automata.size(); ++a) {
     const auto& trs = d.automata[a].transitions;
     for (std::size_t ti = 0; ti < trs.size(); ++ti) {
@@ -78,13 +119,24 @@ RelaxedPlan::RelaxedPlan(const Domain& d, const StatePlan& sp, Objective objecti
         act.cost = base;
         act.lo = lo;
         act.choosable = (tr.commanded && tr.command > 0) || (!tr.commanded && tr.controllable);
+        act.group = group_of[first[a] + static_cast<int>(ti)];
+        if (tr.duration.hi) act.hi = std::lround(*tr.duration.hi * static_cast<double>(tps_));
         for (int f : act.pre) pre_of_[f].push_back(static_cast<int>(actions_.size()));
+        out_of_[act.pre[0]].push_back(static_cast<int>(actions_.size()));
+        stays_[a].push_back(static_cast<int>(actions_.size()));
         actions_.push_back(std::move(act));
       }
     }
   }
   auto need = [](const Condition& c) { return Need{ToClauses(c.expr), !c.info.IsChange()}; };
   goal_ = need(sp.goal);
+  std::vector<Atoms> refused(1);
+  RefusedAtoms(sp.goal.expr, refused);
+  refused_.resize(d.automata.size());
+  for (auto [a, l] : refused[0]) {
+    if (refused_[a].empty()) refused_[a].assign(d.automata[a].locations.size(), 0);
+    refused_[a][l] = 1;
+  }
   for (const auto& ep : sp.episodes) ep_acc_.push_back(need(ep.accepting));
   for (const auto& tc : sp.temporals) {
     tc_ev1_.push_back(need(tc.event1));
@@ -140,6 +192,24 @@ bool RelaxedPlan::Targets(const Node& n, const std::vector<double>& cost, std::v
       facts.push_back(f);  // again when chosen before: the extraction skips it
       chosen[f] = 1;
     }
+    if (c != &goal_) continue;
+    // An automaton where the goal refuses it: the cheapest location the goal allows, unless the
+    // goal's clauses already chose an allowed one.
+    for (std::size_t a = 0; a < refused_.size(); ++a) {
+      const auto& no = refused_[a];
+      if (no.empty() || !no[n.loc[a]]) continue;
+      bool settled = false;
+      for (const LocationAtom& t : picked) settled = settled || (t.first == static_cast<int>(a) && !no[t.second]);
+      if (settled) continue;
+      int best = -1;
+      for (std::size_t l = 0; l < no.size(); ++l) {
+        const int f = Fact(static_cast<int>(a), static_cast<int>(l));
+        if (!no[l] && !std::isinf(cost[f]) && (best < 0 || cost[f] < cost[best])) best = f;
+      }
+      if (best < 0) return false;
+      facts.push_back(best);
+      chosen[best] = 1;
+    }
   }
   return true;
 }
@@ -150,6 +220,16 @@ Estimate RelaxedPlan::Evaluate(const Node& n) const {
   std::vector<int> support(facts_, -1);
   std::vector<int> unsat(actions_.size());
   for (std::size_t i = 0; i < actions_.size(); ++i) unsat[i] = static_cast<int>(actions_[i].pre.size());
+  // An automaton whose every way out has closed stays where it is: its actions never apply.
+  for (std::size_t a = 0; a < d_.automata.size(); ++a) {
+    const auto& out = out_of_[Fact(static_cast<int>(a), n.loc[a])];
+    if (out.empty()) continue;
+    const long clock = n.time - n.entry[a];
+    bool closed = true;
+    for (int ai : out) closed = closed && actions_[ai].hi >= 0 && clock > actions_[ai].hi;
+    if (closed)
+      for (int ai : stays_[a]) unsat[ai] = -1;
+  }
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   std::vector<char> settled(facts_, 0);
@@ -185,6 +265,8 @@ Estimate RelaxedPlan::Evaluate(const Node& n) const {
   // The relaxed plan: the best supporters of every needed fact, each action counted once.
   std::vector<char> marked(actions_.size(), 0), seen(facts_, 0);
   double h = 0;
+  // Makespan: each event of the relaxed plan once, at its longest transition.
+  std::vector<std::pair<int, double>> events;
   while (!stack.empty()) {
     const int f = stack.back();
     stack.pop_back();
@@ -194,7 +276,10 @@ Estimate RelaxedPlan::Evaluate(const Node& n) const {
     if (marked[ai]) continue;
     marked[ai] = 1;
     const Action& act = actions_[ai];
-    h += ActionCost(act, n);
+    if (objective_ == Objective::kMakespan)
+      events.emplace_back(act.group, ActionCost(act, n));
+    else
+      h += ActionCost(act, n);
     bool now = true;
     for (int p : act.pre) {
       stack.push_back(p);
@@ -202,6 +287,9 @@ Estimate RelaxedPlan::Evaluate(const Node& n) const {
     }
     if (now && act.choosable) est.helpful.emplace_back(act.automaton, act.transition);
   }
+  std::sort(events.begin(), events.end());
+  for (std::size_t i = 0; i < events.size(); ++i)
+    if (i + 1 == events.size() || events[i + 1].first != events[i].first) h += events[i].second;
   est.h = h + (objective_ == Objective::kMakespan ? 1.0 : 1e-6) * wait;
   return est;
 }

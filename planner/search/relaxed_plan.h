@@ -6,6 +6,19 @@
 // What the state plan still needs is read as clauses (goal_clauses.h): each clause gets one fact,
 // cheapest first, one location per automaton within a condition, and facts another condition's
 // choice already brought cost nothing more.
+//
+// For makespan, transitions that fire on one event by construction (a commanded transition whose
+// guard requires another automaton's command, and that automaton's transitions on it: a PDDL
+// action compiled onto several objects) are one event of the relaxed plan: it costs the longest of
+// them once, not their sum (an action's end moving three automata is one wait of its duration).
+// An automaton whose every way out of its location has closed (each transition's upper duration
+// bound already passed) stays there: its transitions are left out of the relaxation, so a run
+// that let an action's end go by is seen to be dead.
+//
+// The goal's top-level "a != l" atoms (an imported PDDL model's "no action still runs": not in a
+// step location) are needs too: an automaton in such a location needs the cheapest other location
+// the goal allows, so the relaxed plan counts the end of a running action and sees when it can
+// never come.
 #pragma once
 
 #include <utility>
@@ -45,6 +58,8 @@ class RelaxedPlan {
     double cost = 0;  // from a location entered at the node's time
     long lo = 0;      // ticks
     bool choosable = false;
+    int group = 0;    // the event it fires on (see above); its own when it has no partners
+    long hi = -1;     // ticks; -1 when unbounded
   };
   int Fact(int a, int l) const { return offset_[a] + l; }
   double ActionCost(const Action& act, const Node& n) const;
@@ -60,9 +75,14 @@ class RelaxedPlan {
   long tps_;
   std::vector<int> offset_;
   int facts_ = 0;
+  int groups_ = 0;
   std::vector<Action> actions_;
   std::vector<std::vector<int>> pre_of_;  // fact -> actions needing it
+  std::vector<std::vector<int>> out_of_;  // fact (a location) -> actions leaving it
+  std::vector<std::vector<int>> stays_;   // automaton -> its actions
   Need goal_;  // what the end state needs
+  // Per automaton, the locations the goal's top-level conjuncts refuse ("a != l"); empty when none.
+  std::vector<std::vector<char>> refused_;
   std::vector<Need> ep_acc_, tc_ev1_, tc_ev2_;
 };
 

@@ -114,6 +114,16 @@ std::vector<SubProblem> SplitProblem(const Domain& d, const StatePlan& sp) {
       };
       uf.Join(node(x), node(y));
     }
+  // An automaton without transitions keeps its initial location: it is solved with the first
+  // automaton that has some (an imported PDDL model's variables that no relevant action changes
+  // were each a part of their own, so the first-plan engine, which runs on unsplit problems only,
+  // never ran on the rest).
+  int mover = -1;
+  for (int a = 0; a < na && mover < 0; ++a)
+    if (!d.automata[a].transitions.empty()) mover = a;
+  if (mover >= 0)
+    for (int a = 0; a < na; ++a)
+      if (d.automata[a].transitions.empty()) uf.Join(a, mover);
   // Components that hold automata; pieces without automata go to the first component.
   std::map<int, int> part_of_root;
   std::vector<std::vector<int>> automata;

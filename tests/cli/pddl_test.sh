@@ -53,6 +53,33 @@ assert any(l.startswith("0.000: (drive robot") and l.endswith("[1.000]") for l i
 PY
 then ok "solve --pddl-plan: a PDDL 2.1 plan ending at 11 s"; else bad "--pddl-plan (rc=$rc) $(cat "$T/out.plan")"; fi
 
+# Without --domain, --pddl DOMAIN PROBLEM is imported and solved at once (no JSON file between).
+"$BIN" solve --pddl $P/search_rescue_domain.pddl $P/search_rescue_problem.pddl \
+  --pddl-plan "$T/direct.plan" > "$T/direct.json"; rc=$?
+if [ $rc = 0 ] && python3 - "$T/direct.json" "$T/direct.plan" <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))
+assert t["status"] == "optimal" and t["verified"] is True, (t["status"], t["verified"])
+assert t["objective"] == {"kind": "makespan", "value": 11}, t["objective"]
+assert t["max_horizon"] == 200, t["max_horizon"]  # two events per action: the largest default
+lines = open(sys.argv[2]).read().splitlines()
+assert sum(1 for l in lines if "(pass " in l) == 2, lines
+PY
+then ok "solve --pddl DOMAIN PROBLEM: imported and solved, makespan 11"; else bad "direct solve (rc=$rc)"; fi
+"$BIN" solve --pddl $P/search_rescue_domain.pddl >/dev/null 2>&1; rc=$?
+[ $rc = 2 ] && ok "--pddl DOMAIN alone is a usage error" || bad "--pddl alone (rc=$rc)"
+
+# A model file larger than the 4 MiB of an HTTP body is read from disk (LocalFileLimits: 256 MiB).
+python3 - "$T/sr.json" "$T/big.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["description"] = "x" * (5 << 20)
+json.dump(d, open(sys.argv[2], "w"))
+PY
+"$BIN" solve --domain "$T/big.json" "$T/plan.json" > "$T/big_t.json" 2>"$T/err"; rc=$?
+[ $rc = 0 ] && python3 -c "import json,sys; t=json.load(open(sys.argv[1])); assert t['objective']['value'] == 11" "$T/big_t.json" \
+  && ok "a 5 MiB model file solves" || bad "5 MiB model (rc=$rc): $(head -c 300 "$T/err")"
+
 "$BIN" solve --domain "$T/sr.json" "$T/plan.json" --pddl-plan "$T/x.plan" >/dev/null 2>&1; rc=$?
 [ $rc != 0 ] && [ ! -e "$T/x.plan" ] && ok "--pddl-plan needs --pddl" || bad "--pddl-plan alone (rc=$rc)"
 

@@ -24,6 +24,9 @@
 
 #include "interchange/pddl/internal/pddl_ast.h"
 #include "interchange/pddl/internal/sexpr.h"
+#include "planner/search/first_plan.h"
+#include "planner/solve/decompose.h"
+#include "planner/verify/verify.h"
 #include "tests/interchange/pddl_test_util.h"
 
 namespace sim {
@@ -505,6 +508,123 @@ TEST(PddlPlanOut, TheDoorAndTheBallAsPddlPlans) {
      "to": "busy"}]})");
   EXPECT_EQ(PddlPlan(partial, ball.actions), "");
   EXPECT_EQ(PddlPlan(Json(), ball.actions), "");
+}
+
+// `go` deletes (ready) at its start, which `hold` needs over all, and adds (moved) at its end: two
+// state variables, (moved) a variable of its own because `crawl` adds it without touching (ready).
+// While `hold` runs, the protection keeps (ready) where it is; its partner used to move on the
+// command anyway (the action half applied), which let `go` run inside `hold`: 5 where PDDL 2.1
+// says 6 (hold 0-5, then go 5-6; crawl takes 20).
+constexpr const char* kHalfwayDomain = R"((define (domain halfway)
+  (:requirements :durative-actions)
+  (:predicates (ready) (moved) (held))
+  (:durative-action hold :parameters () :duration (= ?duration 5)
+    :condition (over all (ready)) :effect (at end (held)))
+  (:durative-action go :parameters () :duration (= ?duration 1)
+    :condition (at start (ready)) :effect (and (at start (not (ready))) (at end (moved))))
+  (:durative-action crawl :parameters () :duration (= ?duration 20)
+    :condition (at start (ready)) :effect (at end (moved)))))";
+
+constexpr const char* kHalfwayProblem = R"((define (problem halfway1) (:domain halfway)
+  (:init (ready))
+  (:goal (and (moved) (held)))
+  (:metric minimize (total-time))))";
+
+TEST(PddlCompile, AProtectedStartHoldsBackTheWholeAction) {
+  ExpectOptimum(kHalfwayDomain, kHalfwayProblem, 6);
+  // Both transitions of go's start carry hold's protection: the (ready) one its own, the (moved)
+  // one as a partner.
+  Imported im = MustImport(Source{"d.pddl", kHalfwayDomain}, Source{"p.pddl", kHalfwayProblem});
+  const Json* moved = FindAutomaton(im.domain, "moved");
+  ASSERT_TRUE(moved) << im.domain.dump(1);
+  const Json* start = FindTransition(*moved, "not_moved", "go_not_moved");
+  ASSERT_TRUE(start) << moved->dump(1);
+  EXPECT_NE((*start)["guard"].get<std::string>().find("heldl[i]!=hold"), std::string::npos)
+      << (*start)["guard"];
+}
+
+// A crew's day in the style of IPC 2011 crew planning: one crew member whose work and sleep take
+// it (available) at their start; waking moves it to the next day, so sleeping before day 1's work
+// is done is a dead end the delete relaxation does not see. Reports of tasks the goal does not ask
+// about cannot help (left out), and reporting a task again changes nothing (not offered).
+constexpr const char* kShiftDomain = R"((define (domain shift)
+  (:requirements :typing :durative-actions)
+  (:types crew task day)
+  (:predicates (available ?c - crew) (today ?c - crew ?d - day) (next ?a ?b - day)
+               (done ?t - task ?d - day) (slept ?c - crew ?d - day) (reported ?t - task))
+  (:durative-action work :parameters (?t - task ?c - crew ?d - day)
+    :duration (= ?duration 2)
+    :condition (and (at start (available ?c)) (over all (today ?c ?d)))
+    :effect (and (at start (not (available ?c))) (at end (available ?c)) (at end (done ?t ?d))))
+  (:durative-action sleep :parameters (?c - crew ?d - day)
+    :duration (= ?duration 5)
+    :condition (and (at start (available ?c)) (over all (today ?c ?d)))
+    :effect (and (at start (not (available ?c))) (at end (slept ?c ?d))))
+  (:durative-action wake :parameters (?c - crew ?a ?b - day)
+    :duration (= ?duration 1)
+    :condition (and (at start (slept ?c ?a)) (at start (today ?c ?a)) (over all (next ?a ?b)))
+    :effect (and (at start (not (today ?c ?a))) (at end (today ?c ?b)) (at end (available ?c))))
+  (:durative-action report :parameters (?t - task ?c - crew ?d - day)
+    :duration (= ?duration 1)
+    :condition (and (at start (done ?t ?d)) (over all (today ?c ?d)))
+    :effect (at end (reported ?t)))))";
+
+// Work t1 0-2 and t2 2-4 on day 1, sleep 4-9, wake 9-10, work t3 10-12, report it 12-13: 13.
+constexpr const char* kShiftProblem = R"((define (problem shift1) (:domain shift)
+  (:objects c - crew t1 t2 t3 - task d1 d2 - day)
+  (:init (available c) (today c d1) (next d1 d2))
+  (:goal (and (done t1 d1) (done t2 d1) (slept c d1) (done t3 d2) (reported t3)))
+  (:metric minimize (total-time))))";
+
+TEST(PddlImportRules, ActionsThatCannotHelpOrChangeNothingAreLeftOut) {
+  Imported im = MustImport(Source{"d.pddl", kShiftDomain}, Source{"p.pddl", kShiftProblem});
+  // Ground: work 3 x 2, sleep 2, wake 1, report 3 x 2 = 15. Five cannot help: the reports of t1
+  // and t2 (nothing needs (reported t1) or (reported t2)) and sleeping on day 2 (nothing needs
+  // (slept c d2), nor (available c) false).
+  EXPECT_EQ(im.irrelevant_actions, 5u);
+  EXPECT_EQ(im.ground_actions, 10u);
+  for (const auto& a : im.actions) EXPECT_NE(a.pddl, "(sleep c d2)");
+  for (const auto& a : im.actions) EXPECT_EQ(a.pddl.find("(report t1"), std::string::npos);
+  // Reporting t3 again (from 'reported') changes nothing: no transition leaves 'reported'.
+  const Json* t3 = FindAutomaton(im.domain, "t3");
+  ASSERT_TRUE(t3) << im.domain.dump(1);
+  for (const auto& t : (*t3)["transitions"]) EXPECT_NE(t["from"], "reported") << t.dump();
+  // Kept with keep_irrelevant (a model to reuse with other goals).
+  ImportOptions keep;
+  keep.keep_irrelevant = true;
+  auto all = ImportPddl(Source{"d.pddl", kShiftDomain}, Source{"p.pddl", kShiftProblem}, keep);
+  ASSERT_TRUE(std::holds_alternative<Imported>(all));
+  EXPECT_EQ(std::get<Imported>(all).ground_actions, 15u);
+  EXPECT_EQ(std::get<Imported>(all).irrelevant_actions, 0u);
+}
+
+// The first-plan engine alone plans the shift (two events per action: more than the default 32
+// events are allowed here), its plan passes the verifier and, written as PDDL 2.1, the simulator;
+// it is no shorter than the simulator's optimum. The automata no action changes (the reports of
+// t1 and t2 left out) do not split the problem: the engine runs on unsplit problems only.
+TEST(PddlSearch, TheFirstPlanEnginePlansTheShift) {
+  EXPECT_EQ(sim::Simulate(kShiftDomain, kShiftProblem, 20), 13);
+  Imported im = MustImport(Source{"d.pddl", kShiftDomain}, Source{"p.pddl", kShiftProblem});
+  Diagnostics diags;
+  auto d = LoadDomain(im.domain, diags);
+  ASSERT_TRUE(d);
+  auto sp = LoadStatePlan(im.state_plan, *d, diags);
+  ASSERT_TRUE(sp);
+  EXPECT_LT(SplitProblem(*d, *sp).size(), 2u);
+  FirstPlanOptions o;
+  o.objective = Objective::kMakespan;
+  o.time_limit_ms = 60000;  // a bound, not a measurement: the engine stops at its first plan
+  o.improve_min_ms = 0;
+  o.max_events = 64;
+  FirstPlanResult r = FindFirstPlan(*d, *sp, o);
+  ASSERT_TRUE(r.best) << "expanded " << r.expanded << ", generated " << r.generated;
+  EXPECT_EQ(r.rejected, 0);
+  EXPECT_EQ(VerifyTrajectory(*r.best, *d, *sp, std::lround(1.0 / d->time_resolution)),
+            std::vector<std::string>{});
+  EXPECT_GE(r.makespan, 13);
+  Json t = TrajectoryToJson(*r.best, *d, *sp, std::lround(1.0 / d->time_resolution));
+  std::string plan = PddlPlan(t, im.actions);
+  EXPECT_EQ(sim::Replay(kShiftDomain, kShiftProblem, plan), "") << plan;
 }
 
 TEST(PddlCompile, DeleteWithoutAMatchingPrecondition) {

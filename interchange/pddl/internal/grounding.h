@@ -71,4 +71,12 @@ std::optional<Grounded> Ground(const DomainAst& d, const StateVars& sv, const Pr
                                const ImportOptions& options, std::vector<Issue>& issues,
                                std::vector<Issue>& warnings);
 
+// Leaves out the ground actions that cannot help reach the goal: backwards from it, an action is
+// relevant when it gives a variable a value that the goal or a relevant action's condition needs
+// (or any value of a variable whose value is refused by a negative condition, or read by the goal
+// under a disjunction or a negation). Every plan keeps being a plan without the others (their
+// effects are never needed), and each plan of the rest is one of the whole. Returns how many were
+// left out.
+std::size_t DropIrrelevant(const StateVars& sv, const Goal& goal, Grounded& g);
+
 }  // namespace ctb::pddl

@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "interchange/pddl/internal/writer.h"
@@ -67,6 +68,7 @@ class Writer {
   struct Plan {
     std::vector<const VarUse*> changed, at_end, read_start, read_end;
     std::map<const VarUse*, std::vector<std::string>> sources;
+    std::map<const VarUse*, std::set<std::string>> idle;  // sources it keeps its value from
   };
 
   int VarIndex(const VarKey& k) const {
@@ -87,12 +89,15 @@ class Writer {
   std::string InLocs(int var, const std::vector<int>& locs, const std::string& index) const;
   void Command(int var, std::size_t action);
   std::optional<Plan> MakePlan(std::size_t x);
+  static bool IdleSource(const VarUse& u, const std::string& s);
+  std::string NotAllIdle(const Plan& plan, const VarUse* u, const std::string& source);
   std::vector<std::string> Reads(const VarUse& u, int first, int last, std::size_t x);
   void WriteAction(std::size_t x);
   void WarnRepeatedStretch(const VarUse& u, std::size_t x);
   void Timelines();
   void Protect();
   void WriteProtections();
+  void ProtectPartners(const std::vector<std::string>& text);
   std::string ProtectText(const std::map<int, std::set<int>>& running, bool coarse) const;
   void AddRun(int m);
   void RunTransitions(int m);
@@ -123,6 +128,9 @@ class Writer {
   std::vector<int> run_;  // per automaton: its "run" automaton (busy while it
                           // times an action), -1
   std::vector<std::map<int, std::set<int>>> protect_;  // per transition: timing automaton -> steps
+  // Per (action, variable, at its start): the locations the variable may be in when that event
+  // happens (its sources at the start, its steps at the end).
+  std::map<std::tuple<int, int, bool>, std::vector<int>> event_sources_;
   NameSet automaton_names_;
   int coarse_ = 0;        // transitions with coarse protections
   int coarse_reads_ = 0;  // reads written as "at rest with the value" (Expand)
