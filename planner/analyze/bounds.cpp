@@ -12,6 +12,7 @@
 #include "planner/analyze/assignment_cost.h"
 #include "planner/analyze/clauses.h"
 #include "planner/analyze/relaxed_cost.h"
+#include "planner/analyze/turns.h"
 #include "planner/analyze/workload.h"
 
 namespace ctb {
@@ -183,6 +184,10 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
   // ways and the work charged to them count the same transitions: the larger of the two.
   const Workload w = ComputeWorkload(d, sp, earliest ? &*earliest : nullptr, ev ? &*ev : nullptr);
   b.makespan_ticks = std::max(b.makespan_ticks, w.makespan_ticks);
+  // Locations the maintenance constraint lets only one automaton occupy at a time.
+  if (o.turns)
+    b.makespan_ticks = std::max(
+        b.makespan_ticks, ComputeTurnBound(d, sp, earliest ? &*earliest : nullptr).makespan_ticks);
   b.events = std::max(b.events, w.events);
   long others = 0, helpers = 0;
   for (std::size_t a = 0; a < na; ++a) (w.helper[a] ? helpers : others) += own_cost[a];

@@ -33,9 +33,13 @@ struct ObjectiveBounds {
 // on one stage that several automata may serve, the assignment bound (analyze/assignment.h). The event
 // bound (the first horizon the search tries) counts each transition as an event of its own, and
 // the earliest-times rules in events.
+// The makespan bound is also at least the one-machine bound of locations the maintenance
+// constraint keeps from being occupied at once (analyze/turns.h).
 struct BoundOptions {
   // The assignment bound on cost (analyze/assignment_cost.h); off only to check it (tests).
   bool assignment_cost = true;
+  // The turn-taking bound (analyze/turns.h); off only to check it (tests).
+  bool turns = true;
 };
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOptions& o = {});
 

@@ -1,0 +1,62 @@
+// The turn-taking bound (planner/analyze/turns.h) against exact optima: small random devices that
+// warm up one at a time (with releases, tails, and devices that may skip their warm-up), each
+// solved by the exact engine alone with no bound to stop at; the bound must never exceed the
+// optimum, must meet it on some, and the default solve must end optimal at the same value.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <variant>
+
+#include "planner/analyze/bounds.h"
+#include "planner/analyze/turns.h"
+#include "planner/solve/solve.h"
+#include "turns_problem.h"
+
+namespace ctb {
+namespace {
+
+using testing::Device;
+
+TEST(TurnsSolve, TheBoundNeverExceedsAnExactOptimum) {
+  std::mt19937 rng(29);
+  int tight = 0, bites = 0;
+  for (int i = 0; i < 6; ++i) {
+    std::vector<Device> devs;
+    const int n = 2 + i % 2;
+    for (int k = 0; k < n; ++k)
+      devs.push_back({static_cast<int>(rng() % 3), 1 + static_cast<int>(rng() % 3),
+                      static_cast<int>(rng() % 3), rng() % 4 == 0});
+    auto p = testing::MakeTurns(devs);
+    auto e = ComputeEarliestTimes(p.domain, p.plan);
+    const long bound = ComputeTurnBound(p.domain, p.plan, e ? &*e : nullptr).makespan_ticks;
+    const Json plan = testing::TurnPlanJson(devs, testing::ExclusionForm::kNotBoth);
+    SolveOptions o;
+    o.objective = Objective::kMakespan;
+    o.max_horizon = 12;
+    o.time_limit_ms = 120000;
+    o.search = "g_first";
+    o.first_plan_ms = 0;
+    o.bounds = ObjectiveBounds{};  // the exact engine alone
+    auto exact = SolveDocument(p.domain, p.plan, o);
+    ASSERT_TRUE(std::holds_alternative<Json>(exact)) << std::get<Error>(exact).ToString();
+    const Json& x = std::get<Json>(exact);
+    ASSERT_EQ(x["status"], "optimal") << plan.dump();
+    const long optimum = std::lround(x["objective"]["value"].get<double>() / p.domain.time_resolution);
+    EXPECT_LE(bound, optimum) << "case " << i << ": " << plan.dump();
+    tight += bound == optimum;
+    bites += bound > LowerBounds(p.domain, p.plan, BoundOptions{.turns = false}).makespan_ticks;
+
+    SolveOptions fast;
+    fast.objective = Objective::kMakespan;
+    fast.time_limit_ms = 120000;
+    auto r = SolveDocument(p.domain, p.plan, fast);
+    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
+    EXPECT_EQ(std::get<Json>(r)["status"], "optimal") << plan.dump();
+    EXPECT_EQ(std::get<Json>(r)["objective"]["value"], x["objective"]["value"]) << plan.dump();
+  }
+  EXPECT_GE(tight, 2) << "the bound met no optimum";
+  EXPECT_GE(bites, 2) << "the bound never rose above the others";
+}
+
+}  // namespace
+}  // namespace ctb
