@@ -17,8 +17,9 @@ namespace {
 
 constexpr long kNoWay = EarliestTimes::kNever;
 // The help landmark costs one assignment per fact of it: beyond this many (facts x edges) it is
-// not tried (teams of 64 and more; the assignment without it still holds).
-constexpr long kMaxLandmarkWork = 200'000;
+// not tried (about 20 robots when every robot may rescue every person, 100 when each has its
+// own; the assignment without it still holds).
+constexpr long kMaxLandmarkWork = 20'000;
 // Landmarks tried: the union of the facts the other automata's guards read, and those of each of
 // the first few other automata alone.
 constexpr std::size_t kMaxLandmarkTries = 8;
@@ -89,10 +90,13 @@ Clauses DistinctClauses(Clauses all) {
 
 long AssignmentCostBound(const Domain& d, const StatePlan& sp,
                          const std::vector<std::vector<int>>& visits,
-                         const std::vector<long>& own_cost) {
+                         const std::vector<long>& own_cost, long known) {
   if (sp.goal.info.IsChange()) return 0;
   const Clauses clauses = DistinctClauses(ToClauses(sp.goal.expr));
-  if (clauses.empty()) return 0;
+  // Without a choice (every clause one fact: robot k rescues person k) the graph bound and the
+  // relaxation already count each automaton's own way and the help, shared once.
+  if (std::all_of(clauses.begin(), clauses.end(), [](const Clause& c) { return c.size() == 1; }))
+    return 0;
   const int na = static_cast<int>(d.automata.size());
   std::map<int, CostWays> ways;  // the automata of S
   for (const Clause& c : clauses)
@@ -136,6 +140,10 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
   const auto plain = assign(-1, -1);
   if (!plain) return 0;
   long s_part = *plain;
+  long others = 0;
+  for (int a = 0; a < na; ++a)
+    if (!in_s[a]) others += own_cost[a];
+  if (auto relaxed = RelaxedCostOfOthers(d, sp, in_s)) others = std::max(others, *relaxed);
   long edges = 0;
   for (const Clause& c : clauses) edges += static_cast<long>(c.size());
   // Help: facts of S that the other automata's guards read; their union, and each automaton's.
@@ -161,6 +169,19 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
   if (!starts_in_one && !all_help.empty()) {
     for (const auto& facts : landmarks) {
       if (static_cast<long>(facts.size()) * (edges + 1) > kMaxLandmarkWork) continue;
+      // The most a fact can add: its automaton's detour, asked for nothing or at its dearest
+      // location. When even that stays within `known`, the landmark cannot raise the bound.
+      long most = 0;
+      for (auto [j, v] : facts) {
+        const CostWays& w = ways.at(j);
+        const std::vector<long> from_v = w.From(v);
+        if (auto x = w.NeedVia(v, from_v, -1)) most = std::max(most, *x - w.Need(-1));
+        for (const Clause& c : clauses)
+          for (auto [a, l] : c)
+            if (a == j && w.Reaches(l))
+              if (auto x = w.NeedVia(v, from_v, l)) most = std::max(most, *x - w.Need(l));
+      }
+      if (*plain + most + others <= known) continue;
       if (RelaxedReachableAvoiding(d, sp, facts)) continue;
       std::optional<long> least;
       for (auto [j, v] : facts)
@@ -168,10 +189,6 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
       if (least) s_part = std::max(s_part, *least);
     }
   }
-  long others = 0;
-  for (int a = 0; a < na; ++a)
-    if (!in_s[a]) others += own_cost[a];
-  if (auto relaxed = RelaxedCostBound(d, sp, in_s)) others = std::max(others, *relaxed);
   return s_part + others;
 }
 

@@ -29,12 +29,14 @@
 
 namespace ctb {
 
-// 0 when nothing is claimed: a goal that describes a change, no clause, or no assignment (then no
-// plan exists; the static checks and the exact engines say so). `visits[a]`: the locations
+// 0 when nothing is claimed: a goal that describes a change, no clause, no choice (every clause
+// one fact: the graph bound and the relaxation see that), or no assignment (then no plan exists;
+// the static checks and the exact engines say so). `visits[a]`: the locations
 // automaton a must enter (episodes, temporal constraints, guard landmarks); `own_cost[a]`: a
-// bound on what automaton a's transitions cost in every plan.
+// bound on what automaton a's transitions cost in every plan. `known`: a cost bound already
+// proven; the help landmark (one assignment per fact) is tried only when it could end above it.
 long AssignmentCostBound(const Domain& d, const StatePlan& sp,
                          const std::vector<std::vector<int>>& visits,
-                         const std::vector<long>& own_cost);
+                         const std::vector<long>& own_cost, long known = 0);
 
 }  // namespace ctb

@@ -164,7 +164,7 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
   if (auto relaxed = RelaxedCostBound(d, sp)) b.cost = std::max(b.cost, *relaxed);
   // A goal whose clauses several automata may serve, each automaton at its own cost
   // (analyze/assignment_cost.h).
-  if (o.assignment_cost) b.cost = std::max(b.cost, AssignmentCostBound(d, sp, visits, own_cost));
+  if (o.assignment_cost) b.cost = std::max(b.cost, AssignmentCostBound(d, sp, visits, own_cost, b.cost));
   // Guards, dwell in an episode's location and the state plan's temporal network.
   const auto earliest = ComputeEarliestTimes(d, sp);
   if (earliest && earliest->goal < EarliestTimes::kNever)

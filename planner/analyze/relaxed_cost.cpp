@@ -66,9 +66,9 @@ struct Action {
 class RelaxedTask {
  public:
   // Transitions of the automata marked in `free_automata` cost 0; no action adds a fact of
-  // `avoid`.
+  // `avoid`; with `clauses`, the goal is also read as clauses (AddGoal).
   RelaxedTask(const Domain& d, const StatePlan& sp, const std::vector<char>& free_automata = {},
-              const std::vector<std::pair<int, int>>& avoid = {}) {
+              const std::vector<std::pair<int, int>>& avoid = {}, bool clauses = false) {
     const std::set<std::pair<int, int>> avoided(avoid.begin(), avoid.end());
     for (const auto& a : d.automata) {
       offset_.push_back(facts_);
@@ -88,7 +88,7 @@ class RelaxedTask {
         }
       }
     }
-    AddGoal(sp);
+    AddGoal(sp, clauses);
   }
 
   // True when h_max reaches the goal (a relaxed plan exists).
@@ -128,10 +128,12 @@ class RelaxedTask {
  private:
   int Fact(int a, int l) const { return offset_[a] + l; }
 
-  // The goal fact needs one of the goal's alternatives (a fact of its own), each of its clauses
-  // (one fact each) and the locations the episodes and temporal constraints need. Every plan
-  // meets all of them, so reading the goal both ways is still a relaxation.
-  void AddGoal(const StatePlan& sp) {
+  // The goal fact needs one of the goal's alternatives (a fact of its own), with `clauses` each of
+  // its clauses too (one fact each: "every person rescued by some robot" is n clauses where its
+  // alternatives number n^n, beyond the cap at which they read as true), and the locations the
+  // episodes and temporal constraints need. Every plan meets all of them, so reading the goal
+  // both ways is still a relaxation.
+  void AddGoal(const StatePlan& sp, bool clauses) {
     Action goal{{}, goal_, 0};
     Atoms visits;
     for (const auto& e : sp.episodes) RequiredLocations(e.accepting.expr, visits);
@@ -147,7 +149,7 @@ class RelaxedTask {
       for (auto [a, l] : alt) act.pre.push_back(Fact(a, l));
       actions_.push_back(std::move(act));
     }
-    for (const Clause& c : ToClauses(sp.goal.expr)) {
+    for (const Clause& c : clauses ? ToClauses(sp.goal.expr) : Clauses{}) {
       const int clause = facts_++;
       goal.pre.push_back(clause);
       for (auto [a, l] : c) actions_.push_back(Action{{Fact(a, l)}, clause, 0});
@@ -227,14 +229,18 @@ class RelaxedTask {
 
 }  // namespace
 
-std::optional<long> RelaxedCostBound(const Domain& d, const StatePlan& sp,
-                                     const std::vector<char>& free_automata) {
-  return RelaxedTask(d, sp, free_automata).LmCut();
+std::optional<long> RelaxedCostBound(const Domain& d, const StatePlan& sp) {
+  return RelaxedTask(d, sp).LmCut();
+}
+
+std::optional<long> RelaxedCostOfOthers(const Domain& d, const StatePlan& sp,
+                                        const std::vector<char>& free_automata) {
+  return RelaxedTask(d, sp, free_automata, {}, true).LmCut();
 }
 
 bool RelaxedReachableAvoiding(const Domain& d, const StatePlan& sp,
                               const std::vector<std::pair<int, int>>& facts) {
-  return RelaxedTask(d, sp, {}, facts).Reachable();
+  return RelaxedTask(d, sp, {}, facts, true).Reachable();
 }
 
 }  // namespace ctb

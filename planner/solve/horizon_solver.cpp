@@ -25,7 +25,8 @@ class Solver {
          const std::optional<Plan>& incumbent = std::nullopt)
       : d_(d), sp_(sp), o_(o), info_(Analyze(d, sp)),
         objective_(o.objective.value_or(sp.objective)),
-        bounds_(o.bounds ? *o.bounds : LowerBounds(d, sp)), t0_(Clock::now()), best_(incumbent) {
+        bounds_(o.bounds ? *o.bounds : LowerBounds(d, sp, CostBoundsFor(objective_))),
+        t0_(Clock::now()), best_(incumbent) {
     if (o.history) {  // replanning: the future starts at `now`; the history's cost is spent
       info_.time_offset = o.history->now;
       for (const auto& f : o.history->fired)

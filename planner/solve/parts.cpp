@@ -161,7 +161,8 @@ std::optional<Core> SolveParts(const Domain& d, const StatePlan& sp,
     if (c.status != Termination::kOptimal) continue;
     if (objective == Objective::kMakespan && c.best->makespan < latest) continue;
     const SubProblem& part = *first_of[key];
-    if (MeetsLowerBounds(LowerBounds(part.domain, part.plan), objective, c.best->cost,
+    if (MeetsLowerBounds(LowerBounds(part.domain, part.plan, CostBoundsFor(objective)), objective,
+                         c.best->cost,
                          c.best->makespan))
       continue;
     if (!ProveAgainstRelaxedRuns(*first_of[key], po, t0, o.time_limit_ms, c))

@@ -62,7 +62,8 @@ SolveResult ResultOf(const Domain& d, const StatePlan& sp, Objective objective, 
   r.max_horizon = max_horizon;
   // How far from optimal the plan may be: a bound every plan obeys.
   if (c.status == Termination::kFeasible)
-    r.bound = BoundValue(bounds ? *bounds : LowerBounds(d, sp), objective, r.ticks_per_second);
+    r.bound = BoundValue(bounds ? *bounds : LowerBounds(d, sp, CostBoundsFor(objective)), objective,
+                         r.ticks_per_second);
   // Which engine found the plan and what proved the status.
   const std::string engine = c.engine.empty() ? solver_name : c.engine;
   r.stats.solver = engine;
@@ -176,7 +177,7 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
 std::variant<SolveResult, Error> SolveForbidding(const Domain& d, const StatePlan& sp, const SolveOptions& o) {
   const Domain without = WithoutForbidden(d, sp);
   SolveOptions with = o;
-  with.bounds = LowerBounds(without, sp);
+  with.bounds = LowerBounds(without, sp, CostBoundsFor(o.objective.value_or(sp.objective)));
   return SolveFixed(d, sp, with, &without);
 }
 
@@ -219,7 +220,7 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
   // the solve.
   std::optional<ObjectiveBounds> known_bounds = o.bounds;
   auto bounds_of_whole = [&]() -> const ObjectiveBounds& {
-    if (!known_bounds) known_bounds = LowerBounds(d, sp);
+    if (!known_bounds) known_bounds = LowerBounds(d, sp, CostBoundsFor(objective));
     return *known_bounds;
   };
   // Replanning (o.history): the engine starts from the history; the bounds are those valid given

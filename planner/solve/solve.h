@@ -104,6 +104,12 @@ struct SolveOptions {
   int first_horizon = 0;
 };
 
+// The lower bounds a solve computes (analyze/bounds.h): the assignment bound on cost only when the
+// objective reads cost (a makespan solve never does).
+inline BoundOptions CostBoundsFor(Objective objective) {
+  return {.assignment_cost = objective != Objective::kMakespan};
+}
+
 // Checks the options themselves (ranges); errors carry the option's name as pointer.
 std::optional<Error> ValidateSolveOptions(const SolveOptions& o);
 
