@@ -15,12 +15,12 @@ import argparse
 import json
 import os
 import random
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from assembly_proofs import assembly, plan  # noqa: E402
+from common import solve_makespan  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -54,19 +54,6 @@ def towers(cfg):
     return ", ".join(out)
 
 
-def solve(binary, dom, sp, limit_ms):
-    p = subprocess.run([binary, "solve", "--domain", dom, sp, "--objective", "makespan",
-                        "--time-limit-ms", str(limit_ms)], capture_output=True, text=True,
-                       timeout=limit_ms / 1000 + 120)
-    if p.returncode != 0:
-        return {"status": "error", "error": p.stderr.strip()[-200:]}
-    t = json.loads(p.stdout)
-    s = t["stats"]
-    return {"status": t["status"], "makespan": (t.get("objective") or {}).get("value"),
-            "bound": t.get("bound"), "verified": t.get("verified"),
-            "first_s": round(s.get("first_solution_ms", -1) / 1000, 2),
-            "answer_s": round(s.get("solve_ms", -1) / 1000, 2),
-            "found_by": s.get("found_by"), "proved_by": s.get("proved_by")}
 
 
 def main():
@@ -95,7 +82,7 @@ def main():
                 sp = os.path.join(tmp, "plan.json")
                 json.dump(plan(arms, start, goal), open(sp, "w"))
                 r = {"problem": k, "arms": arms, "start": towers(start), "goal": towers(goal)}
-                r.update(solve(a.bin, dom, sp, a.time_limit_ms))
+                r.update(solve_makespan(a.bin, dom, sp, a.time_limit_ms))
                 print(json.dumps(r), flush=True)
                 rows.append(r)
     load_after = open("/proc/loadavg").read().split()[:3]

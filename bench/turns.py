@@ -23,8 +23,11 @@ import argparse
 import itertools
 import json
 import os
-import subprocess
+import sys
 import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import solve_makespan  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FAMILIES = ("same", "staggered", "due")
@@ -95,19 +98,6 @@ def optimum(devs):
     return best
 
 
-def solve(binary, dom, sp, limit_ms):
-    p = subprocess.run([binary, "solve", "--domain", dom, sp, "--objective", "makespan",
-                        "--time-limit-ms", str(limit_ms)], capture_output=True, text=True,
-                       timeout=limit_ms / 1000 + 120)
-    if p.returncode != 0:
-        return {"status": "error", "error": p.stderr.strip()[-200:]}
-    t = json.loads(p.stdout)
-    s = t["stats"]
-    return {"status": t["status"], "makespan": (t.get("objective") or {}).get("value"),
-            "bound": t.get("bound"), "verified": t.get("verified"),
-            "first_s": round(s.get("first_solution_ms", -1) / 1000, 2),
-            "answer_s": round(s.get("solve_ms", -1) / 1000, 2),
-            "found_by": s.get("found_by"), "proved_by": s.get("proved_by")}
 
 
 def write_md(path, data):
@@ -148,14 +138,14 @@ def main():
                 json.dump(domain(devs), open(dom, "w"))
                 json.dump(state_plan(family, devs), open(sp, "w"))
                 r = {"family": family, "n": n, "devices": devs, "optimum": optimum(devs)}
-                r.update(solve(a.bin, dom, sp, a.time_limit_ms))
+                r.update(solve_makespan(a.bin, dom, sp, a.time_limit_ms))
                 print(json.dumps(r), flush=True)
                 rows.append(r)
+    os.makedirs(a.out, exist_ok=True)
     path = os.path.join(a.out, "turns.json")
     data = json.load(open(path)) if os.path.exists(path) else {}
-    data[a.label] = {"command": "python3 bench/turns.py " + " ".join(
-        x for x in __import__("sys").argv[1:]), "binary": a.bin, "load_before": load_before,
-        "load_after": " ".join(open("/proc/loadavg").read().split()[:3]), "rows": rows}
+    data[a.label] = {"command": " ".join(["python3 bench/turns.py"] + sys.argv[1:]), "binary": a.bin,
+        "load_before": load_before, "load_after": " ".join(open("/proc/loadavg").read().split()[:3]), "rows": rows}
     json.dump(data, open(path, "w"), indent=1)
     write_md(os.path.join(a.out, "turns.md"), data)
 
