@@ -21,6 +21,7 @@
 #include "planner/network/check.h"
 #include "planner/solve/solve.h"
 #include "planner/verify/verify.h"
+#include "exact_engine.h"
 #include "random_helpers.h"
 #include "random_teams.h"
 #include "random_actions.h"
@@ -477,13 +478,7 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
     const Workload w = ComputeWorkload(*d, *sp, ticks ? &*ticks : nullptr, events ? &*events : nullptr);
     bool feasible = false;
     for (Objective objective : {Objective::kCost, Objective::kMakespan}) {
-      SolveOptions o;
-      o.max_horizon = 10;
-      o.time_limit_ms = 120000;
-      o.search = "g_first";
-      o.first_plan_ms = 0;
-      o.bounds = ObjectiveBounds{};  // the exact engine alone: no bound to stop at or constrain
-      o.objective = objective;
+      const SolveOptions o = testing::ExactEngineAlone(objective);
       auto r = SolveDocument(*d, *sp, o);
       ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
       const Json& answer = std::get<Json>(r);
@@ -502,13 +497,8 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
     if (!feasible) continue;
     ++compared;
     if (b.events > 1) {
-      SolveOptions o;
+      SolveOptions o = testing::ExactEngineAlone(Objective::kMakespan);
       o.horizon = static_cast<int>(b.events) - 1;
-      o.time_limit_ms = 120000;
-      o.search = "g_first";
-      o.first_plan_ms = 0;
-      o.bounds = ObjectiveBounds{};
-      o.objective = Objective::kMakespan;
       auto r = SolveDocument(*d, *sp, o);
       ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
       EXPECT_EQ(std::get<Json>(r)["status"], "infeasible")
@@ -569,13 +559,7 @@ TEST(BruteForce, AssignmentCostBoundBelowExactOptimaOfTeams) {
     ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
     const ObjectiveBounds on = LowerBounds(*d, *sp);
     const ObjectiveBounds off = LowerBounds(*d, *sp, {.assignment_cost = false});
-    SolveOptions exact;
-    exact.max_horizon = 10;
-    exact.time_limit_ms = 120000;
-    exact.search = "g_first";
-    exact.first_plan_ms = 0;
-    exact.bounds = ObjectiveBounds{};  // no bound to stop at or constrain
-    exact.objective = Objective::kCost;
+    const SolveOptions exact = testing::ExactEngineAlone(Objective::kCost);
     auto r = SolveDocument(*d, *sp, exact);
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString() << p.Describe();
     const Json& truth = std::get<Json>(r);

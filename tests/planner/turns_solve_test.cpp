@@ -10,6 +10,7 @@
 #include "planner/analyze/bounds.h"
 #include "planner/analyze/turns.h"
 #include "planner/solve/solve.h"
+#include "exact_engine.h"
 #include "turns_problem.h"
 
 namespace ctb {
@@ -30,14 +31,7 @@ TEST(TurnsSolve, TheBoundNeverExceedsAnExactOptimum) {
     auto e = ComputeEarliestTimes(p.domain, p.plan);
     const long bound = ComputeTurnBound(p.domain, p.plan, e ? &*e : nullptr).makespan_ticks;
     const Json plan = testing::TurnPlanJson(devs, testing::ExclusionForm::kNotBoth);
-    SolveOptions o;
-    o.objective = Objective::kMakespan;
-    o.max_horizon = 12;
-    o.time_limit_ms = 120000;
-    o.search = "g_first";
-    o.first_plan_ms = 0;
-    o.bounds = ObjectiveBounds{};  // the exact engine alone
-    auto exact = SolveDocument(p.domain, p.plan, o);
+    auto exact = SolveDocument(p.domain, p.plan, testing::ExactEngineAlone(Objective::kMakespan, 12));
     ASSERT_TRUE(std::holds_alternative<Json>(exact)) << std::get<Error>(exact).ToString();
     const Json& x = std::get<Json>(exact);
     ASSERT_EQ(x["status"], "optimal") << plan.dump();
