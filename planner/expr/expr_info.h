@@ -10,6 +10,7 @@ struct ExprInfo {
   bool domain_uses_i = false;      // a location/command variable at [i]
   bool domain_uses_i1 = false;     // ... at [i+1]
   bool uses_fixed = false;         // ... at a fixed stage
+  int max_fixed = -1;              // the latest fixed stage read (-1: none)
   std::set<int> locations_read;    // automata whose location is read
   std::set<int> commands_read;     // automata whose command is read
   std::set<int> episodes_read;

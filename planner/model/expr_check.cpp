@@ -152,6 +152,7 @@ class Checker {
         diags_.Warning(pointer_, "fixed stage index [" + std::to_string(idx.fixed) + "] on '" +
                                      e.var + "': did you mean [i] or [i+1]?", idx.offset);
       info_.uses_fixed = true;
+      info_.max_fixed = std::max(info_.max_fixed, idx.fixed);
     } else if (idx.kind == IndexKind::kI) {
       info_.domain_uses_i = true;
     } else {

@@ -16,9 +16,10 @@ bool IsAccepting(const Expr& atom) {
 }
 
 // Why the engine cannot follow a condition: it reads commands (those of the stage an event opens
-// are chosen only at the next event) or a fixed stage (min(n, g) depends on the goal event).
+// are chosen only at the next event) or a fixed stage after the first (min(n, g) depends on the
+// goal event). Stage 0 is the initial state in every run, replanned ones included.
 std::string Unsupported(const Condition& c) {
-  if (c.raw_info.uses_fixed) return "a condition reads a fixed stage (" + c.pointer + ")";
+  if (c.raw_info.max_fixed > 0) return "a condition reads a fixed stage after 0 (" + c.pointer + ")";
   if (!c.raw_info.commands_read.empty()) return "a condition reads commands (" + c.pointer + ")";
   return "";
 }
@@ -48,6 +49,14 @@ Expander::Expander(const Domain& d, const StatePlan& sp, long ticks_per_second)
       }
     }
   }
+  lead_.resize(na);
+  for (std::size_t a = 0; a < na; ++a)
+    for (const Transition& tr : d.automata[a].transitions) {
+      long lead = kInfinity;
+      for (int next : out_[a][tr.to])
+        lead = std::min(lead, Ticks(d.automata[a].transitions[next].duration.lo));
+      lead_[a].push_back(lead == kInfinity ? 0 : lead);
+    }
   for (const auto& ep : sp.episodes) {
     ep_lo_.push_back(Ticks(ep.lower));
     ep_hi_.push_back(Ticks(ep.upper));
@@ -306,6 +315,10 @@ std::optional<Node> Expander::Apply(const Node& parent, const StageView& v,
   return n;
 }
 
+int Expander::InitialValue(const Expr& atom) const {
+  return atom.var_kind == VarKind::kLocation ? sp_.initial[atom.target] : 0;
+}
+
 int Expander::AcceptingBefore(const Expr& atom, const Node* prev) const {
   if (!prev) return 0;  // before event 0 nothing has started
   const int k = prev->event;
@@ -325,6 +338,7 @@ bool Expander::AtEvent(const Condition& c, const Node* prev, const Node& n) cons
   if (change && !prev) return false;
   return Evaluate(c.raw, [&](const Expr& atom) {
     if (IsAccepting(atom)) return AcceptingBefore(atom, prev);
+    if (atom.index.kind == IndexKind::kFixed) return InitialValue(atom);
     const bool before = change && atom.index.kind == IndexKind::kI;
     const std::vector<int>& loc = before ? prev->loc : n.loc;
     return atom.var_kind == VarKind::kLocation ? loc[atom.target] : 0;  // commands: declined
@@ -334,6 +348,7 @@ bool Expander::AtEvent(const Condition& c, const Node* prev, const Node& n) cons
 bool Expander::OnStage(const Condition& c, const Node* prev, const Node& n) const {
   return Evaluate(c.raw, [&](const Expr& atom) {
     if (IsAccepting(atom)) return AcceptingBefore(atom, prev);
+    if (atom.index.kind == IndexKind::kFixed) return InitialValue(atom);
     return atom.var_kind == VarKind::kLocation ? n.loc[atom.target] : 0;
   });
 }

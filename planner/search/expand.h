@@ -108,6 +108,10 @@ class Expander {
   std::vector<long> Key(const Node& n) const;
 
   long Ticks(double seconds) const;
+  // The least time an automaton stays where transition ti takes it (the least lower duration of
+  // the transitions out of its destination; 0 when there are none): firing ti that long before a
+  // target time makes the next change land on it (an automatic shutdown ending on a deadline).
+  long Lead(int a, int ti) const { return lead_[a][ti]; }
   const std::vector<int>& Outgoing(int a, int loc) const { return out_[a][loc]; }
 
  private:
@@ -123,6 +127,8 @@ class Expander {
   bool UpdateMonitors(const Node* prev, Node& n) const;
   bool AtEvent(const Condition& c, const Node* prev, const Node& n) const;
   bool OnStage(const Condition& c, const Node* prev, const Node& n) const;
+  // A location read at fixed stage 0 (the only fixed stage followed): the initial location.
+  int InitialValue(const Expr& atom) const;
   int AcceptingBefore(const Expr& atom, const Node* prev) const;
 
   const Domain& d_;
@@ -133,6 +139,7 @@ class Expander {
   std::vector<std::vector<std::vector<int>>> out_;  // [automaton][location] -> transitions
   std::vector<std::vector<int>> readers_;           // automata whose guards read a's command
   std::vector<std::vector<long>> clock_cap_;        // [automaton][location]
+  std::vector<std::vector<long>> lead_;             // [automaton][transition]
   std::vector<long> ep_lo_, ep_hi_, tc_lo_, tc_hi_;
   std::vector<long> ord_lo_, ord_hi_;           // ticks; kInfinity: no upper bound
   std::vector<std::vector<bool>> is_action_;    // [action][transition of its automaton]

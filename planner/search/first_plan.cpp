@@ -169,7 +169,7 @@ class Search {
   }
 
   // Preferred successors first (the helpful transitions together, each alone at its earliest
-  // time and at the monitors' target times, waiting); the others on the node's second turn.
+  // time, at the monitors' target times and that transition's lead before them, waiting); the others on the node's second turn.
   // When the helpful transitions fire together, each alone waits for the second turn too: with
   // a team of hundreds, generating every single one at every node was most of the search.
   void Expand(int idx, bool preferred) {
@@ -186,8 +186,11 @@ class Search {
     auto singles = [&](const Candidate& c, Rank rank) {
       const std::vector<std::pair<int, int>> lead = {{c.automaton, c.transition}};
       Add(idx, ex_.Apply(n, v, lead, c.earliest, c.commands), rank);
-      for (long t : targets)
-        if (t > c.earliest && t <= c.latest) Add(idx, ex_.Apply(n, v, lead, t, c.commands), rank);
+      const long before = ex_.Lead(c.automaton, c.transition);
+      for (long target : targets)
+        for (long t : {target, target - before})
+          if (t > c.earliest && t <= c.latest && (t == target || before > 0))
+            Add(idx, ex_.Apply(n, v, lead, t, c.commands), rank);
     };
     if (!preferred) {
       if (deferred_.erase(idx))

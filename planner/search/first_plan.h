@@ -22,7 +22,8 @@
 // reported (planner/search/history_nodes.h), and the search plans the future from there, every
 // event at or after `now`; the plan returned is the whole run, history included.
 //
-// Declines (no plan, `declined` set) state plans whose conditions read commands or fixed stages,
+// Declines (no plan, `declined` set) state plans whose conditions read commands or fixed stages
+// other than 0 (stage 0 is the initial state),
 // state plans with shared events, and histories with keep "started" (History::keep_next).
 // Thread-safe: calls share nothing. Never throws.
 #pragma once

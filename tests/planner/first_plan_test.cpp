@@ -68,6 +68,74 @@ TEST(FirstPlan, EveryShippedExampleGivesOnlyVerifiedPlans) {
       FindExample(domain, file, obj);
 }
 
+// The thesis' direct prompt starts its "within 60 s" at `projl[0]==projOff`, a fixed stage. Stage 0
+// is the initial state in every run, so the engine reads it there; its plan meets the lower bound
+// (the optimum, cost 7, as with the chain-of-thought prompt).
+TEST(FirstPlan, TheDirectPromptReadsStageZeroAndMeetsTheBound) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = testing::ShippedStatePlan(
+      "presentation", testing::ConfigDir() + "/examples/presentation/test1_direct.json");
+  for (Objective obj : {Objective::kCost, Objective::kMakespan}) {
+    // As the solve runs it: told the bound, the engine searches until it meets it.
+    const ObjectiveBounds bound = LowerBounds(d, sp);
+    FirstPlanOptions o;
+    o.objective = obj;
+    o.time_limit_ms = 60000;
+    o.good_enough = [&](long cost, long makespan) {
+      return MeetsLowerBounds(bound, obj, cost, makespan);
+    };
+    FirstPlanResult r = FindFirstPlan(d, sp, o);
+    EXPECT_EQ(r.declined, "");
+    ASSERT_TRUE(r.best);
+    EXPECT_TRUE(VerifyTrajectory(*r.best, d, sp, 1).empty());
+    EXPECT_TRUE(MeetsLowerBounds(bound, obj, r.cost, r.makespan))
+        << "cost " << r.cost << ", makespan " << r.makespan;
+  }
+  EXPECT_EQ(Find(d, sp, Objective::kCost).cost, 7);
+}
+
+// Stage 0 read as false: the temporal constraint's first event never happens, so no plan.
+// A later fixed stage depends on the goal event (min(n, g)) and is still declined.
+TEST(FirstPlan, StageZeroIsReadAsItIsAndLaterFixedStagesAreDeclined) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  auto load = [&](const std::string& event1) {
+    Diagnostics diags;
+    auto sp = LoadStatePlan(testing::MustParse(R"({
+      "initial_state": {"comp": "compOff", "conn": "disconnected", "proj": "projOff"},
+      "end_state": {"maintenance_constraint": "true",
+                    "goal_constraint": "projl[i+1]==projOn"},
+      "constraints": {"temporal": {"t": {"accepting_event1_constraint": ")" + event1 + R"(",
+        "accepting_event2_constraint": "projl[i+1]==projOn", "lower_bound": 0,
+        "upper_bound": 100}}}})"), d, diags);
+    EXPECT_TRUE(sp) << testing::AllErrors(diags);
+    return *sp;
+  };
+  StatePlan holds = load("projl[0]==projOff");
+  FirstPlanResult r = Find(d, holds, Objective::kMakespan);
+  ASSERT_TRUE(r.best);
+  EXPECT_TRUE(VerifyTrajectory(*r.best, d, holds, 1).empty());
+  StatePlan never = load("projl[0]==projOn");
+  r = Find(d, never, Objective::kMakespan);
+  EXPECT_EQ(r.declined, "");
+  EXPECT_FALSE(r.best);
+  StatePlan later = load("projl[1]==projOff");
+  r = Find(d, later, Objective::kMakespan);
+  EXPECT_NE(r.declined.find("fixed stage after 0"), std::string::npos) << r.declined;
+}
+
+// Test prompt 2: the optimum (cost 10) disconnects when the projector's episode ends, so that it
+// cools down on its own, and turns the computer off 30 s (its shutdown) before the constraint's
+// 600 s: the engine tries each transition its lead before a target time, and meets the bound.
+TEST(FirstPlan, TestPromptTwoReachesTheOptimumByLeadTimes) {
+  const Domain& d = testing::ShippedDomain("presentation");
+  StatePlan sp = testing::ShippedStatePlan(
+      "presentation", testing::ConfigDir() + "/examples/presentation/test2_cot.json");
+  FirstPlanResult r = Find(d, sp, Objective::kCost);
+  ASSERT_TRUE(r.best);
+  EXPECT_EQ(r.cost, 10);
+  EXPECT_TRUE(MeetsLowerBounds(LowerBounds(d, sp), Objective::kCost, r.cost, r.makespan));
+}
+
 TEST(FirstPlan, DeclinesConditionsThatReadCommands) {
   const Domain& d = testing::ShippedDomain("search_rescue");
   Diagnostics diags;
