@@ -86,44 +86,57 @@ Clauses DistinctClauses(Clauses all) {
   return kept;
 }
 
-}  // namespace
-
-long AssignmentCostBound(const Domain& d, const StatePlan& sp,
-                         const std::vector<std::vector<int>>& visits,
-                         const std::vector<long>& own_cost, long known) {
-  if (sp.goal.info.IsChange()) return 0;
-  const Clauses clauses = DistinctClauses(ToClauses(sp.goal.expr));
-  // Without a choice (every clause one fact: robot k rescues person k) the graph bound and the
-  // relaxation already count each automaton's own way and the help, shared once.
-  if (std::all_of(clauses.begin(), clauses.end(), [](const Clause& c) { return c.size() == 1; }))
-    return 0;
-  const int na = static_cast<int>(d.automata.size());
-  std::map<int, CostWays> ways;  // the automata of S
-  for (const Clause& c : clauses)
-    for (auto [a, l] : c)
-      if (!ways.count(a)) ways.emplace(a, CostWays(d.automata[a], sp.initial[a], visits[a]));
-  std::vector<char> in_s(na, 0);
-  long base = 0;  // what S costs with nothing asked of it
-  for (const auto& [a, w] : ways) {
-    in_s[a] = 1;
-    base += w.Need(-1);
+// The goal's distinct clauses served by the automata of S (the automata they name), at their own
+// costs: what AssignmentCostBound and CostlyLocations share.
+class ServedClauses {
+ public:
+  ServedClauses(const Domain& d, const StatePlan& sp, const std::vector<std::vector<int>>& visits,
+                const std::vector<long>& own_cost)
+      : na_(static_cast<int>(d.automata.size())), in_s_(na_, 0) {
+    if (sp.goal.info.IsChange()) return;
+    clauses_ = DistinctClauses(ToClauses(sp.goal.expr));
+    // Without a choice (every clause one fact: robot k rescues person k) the graph bound and the
+    // relaxation already count each automaton's own way and the help, shared once.
+    if (std::all_of(clauses_.begin(), clauses_.end(), [](const Clause& c) { return c.size() == 1; })) {
+      clauses_.clear();
+      return;
+    }
+    for (const Clause& c : clauses_)
+      for (auto [a, l] : c)
+        if (!ways_.count(a)) ways_.emplace(a, CostWays(d.automata[a], sp.initial[a], visits[a]));
+    for (const auto& [a, w] : ways_) {
+      in_s_[a] = 1;
+      base_ += w.Need(-1);
+    }
+    for (int a = 0; a < na_; ++a)
+      if (!in_s_[a]) others_ += own_cost[a];
+    if (auto relaxed = RelaxedCostOfOthers(d, sp, in_s_)) others_ = std::max(others_, *relaxed);
   }
-  // The assignment; with j >= 0, automaton j's costs those through location v.
-  auto assign = [&](int j, int v) -> std::optional<long> {
+
+  bool Claims() const { return !clauses_.empty(); }
+  const Clauses& clauses() const { return clauses_; }
+  const std::map<int, CostWays>& ways() const { return ways_; }
+  bool InS(int a) const { return in_s_[a] != 0; }
+  // A bound on what the automata outside S cost in every plan.
+  long Others() const { return others_; }
+
+  // What S costs at least; with j >= 0, in plans where automaton j enters location v. nullopt:
+  // no assignment (then no such plan).
+  std::optional<long> Assign(int j, int v) const {
     std::vector<AssignmentRow> rows;
     std::vector<long> from_v;
     long extra = 0, j_none = 0;
     if (j >= 0) {
-      from_v = ways.at(j).From(v);
-      auto none = ways.at(j).NeedVia(v, from_v, -1);
+      from_v = ways_.at(j).From(v);
+      auto none = ways_.at(j).NeedVia(v, from_v, -1);
       if (!none) return std::nullopt;
       j_none = *none;
-      extra = j_none - ways.at(j).Need(-1);
+      extra = j_none - ways_.at(j).Need(-1);
     }
-    for (const Clause& c : clauses) {
+    for (const Clause& c : clauses_) {
       AssignmentRow row;
       for (auto [a, l] : c) {
-        const CostWays& w = ways.at(a);
+        const CostWays& w = ways_.at(a);
         if (!w.Reaches(l)) continue;
         if (a != j) {
           row.emplace_back(a, w.Need(l) - w.Need(-1));
@@ -133,29 +146,45 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
       }
       rows.push_back(std::move(row));
     }
-    auto m = MinCostAssignment(na, rows);
+    auto m = MinCostAssignment(na_, rows);
     if (!m) return std::nullopt;
-    return base + extra + *m;
-  };
-  const auto plain = assign(-1, -1);
+    return base_ + extra + *m;
+  }
+
+ private:
+  int na_;
+  Clauses clauses_;
+  std::map<int, CostWays> ways_;
+  std::vector<char> in_s_;
+  long base_ = 0;    // what S costs with nothing asked of it
+  long others_ = 0;
+};
+
+}  // namespace
+
+long AssignmentCostBound(const Domain& d, const StatePlan& sp,
+                         const std::vector<std::vector<int>>& visits,
+                         const std::vector<long>& own_cost, long known) {
+  const ServedClauses served(d, sp, visits, own_cost);
+  if (!served.Claims()) return 0;
+  const Clauses& clauses = served.clauses();
+  const int na = static_cast<int>(d.automata.size());
+  const auto plain = served.Assign(-1, -1);
   if (!plain) return 0;
   long s_part = *plain;
-  long others = 0;
-  for (int a = 0; a < na; ++a)
-    if (!in_s[a]) others += own_cost[a];
-  if (auto relaxed = RelaxedCostOfOthers(d, sp, in_s)) others = std::max(others, *relaxed);
+  const long others = served.Others();
   long edges = 0;
   for (const Clause& c : clauses) edges += static_cast<long>(c.size());
   // Help: facts of S that the other automata's guards read; their union, and each automaton's.
   std::set<LocationAtom> all_help;
   std::vector<std::vector<LocationAtom>> landmarks(1);
   for (int b = 0; b < na; ++b) {
-    if (in_s[b]) continue;
+    if (served.InS(b)) continue;
     std::set<LocationAtom> facts;
     for (const Transition& t : d.automata[b].transitions)
       for (const Clause& c : ToClauses(t.guard))
         for (const LocationAtom& f : c)
-          if (in_s[f.first]) facts.insert(f);
+          if (served.InS(f.first)) facts.insert(f);
     if (facts.empty()) continue;
     all_help.insert(facts.begin(), facts.end());
     if (landmarks.size() < kMaxLandmarkTries) landmarks.emplace_back(facts.begin(), facts.end());
@@ -173,7 +202,7 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
       // location. When even that stays within `known`, the landmark cannot raise the bound.
       long most = 0;
       for (auto [j, v] : facts) {
-        const CostWays& w = ways.at(j);
+        const CostWays& w = served.ways().at(j);
         const std::vector<long> from_v = w.From(v);
         if (auto x = w.NeedVia(v, from_v, -1)) most = std::max(most, *x - w.Need(-1));
         for (const Clause& c : clauses)
@@ -185,11 +214,50 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
       if (RelaxedReachableAvoiding(d, sp, facts)) continue;
       std::optional<long> least;
       for (auto [j, v] : facts)
-        if (auto x = assign(j, v)) least = least ? std::min(*least, *x) : *x;
+        if (auto x = served.Assign(j, v)) least = least ? std::min(*least, *x) : *x;
       if (least) s_part = std::max(s_part, *least);
     }
   }
   return s_part + others;
+}
+
+std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePlan& sp,
+                                                 const std::vector<std::vector<int>>& visits,
+                                                 const std::vector<long>& own_cost,
+                                                 const std::vector<int>& final_loc, long budget) {
+  std::vector<std::pair<int, int>> out;
+  const int na = static_cast<int>(d.automata.size());
+  long work = 0;
+  // Each automaton alone: the others' own ways plus its own through the location.
+  long all_own = 0;
+  for (long c : own_cost) all_own += c;
+  for (int a = 0; a < na; ++a) {
+    const CostWays w(d.automata[a], sp.initial[a], visits[a]);
+    const int nl = static_cast<int>(d.automata[a].locations.size());
+    work += nl;
+    if (work > kMaxLandmarkWork) return out;
+    for (int v = 0; v < nl; ++v) {
+      if (v == sp.initial[a] || !w.Reaches(v)) continue;
+      const auto via = w.NeedVia(v, w.From(v), final_loc[a]);
+      if (!via || all_own - own_cost[a] + std::max(own_cost[a], *via) > budget) out.emplace_back(a, v);
+    }
+  }
+  // The automata of S under the assignment.
+  const ServedClauses served(d, sp, visits, own_cost);
+  if (!served.Claims()) return out;
+  for (const auto& [j, w] : served.ways()) {
+    const int nl = static_cast<int>(d.automata[j].locations.size());
+    work += nl * static_cast<long>(served.clauses().size() + 1);
+    if (work > kMaxLandmarkWork) break;
+    for (int v = 0; v < nl; ++v) {
+      if (v == sp.initial[j] || !w.Reaches(v)) continue;
+      const auto via = served.Assign(j, v);
+      if (!via || *via + served.Others() > budget) out.emplace_back(j, v);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 }  // namespace ctb

@@ -22,6 +22,7 @@
 // Depends on the model only; thread-safe.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "planner/model/domain.h"
@@ -38,5 +39,16 @@ namespace ctb {
 long AssignmentCostBound(const Domain& d, const StatePlan& sp,
                          const std::vector<std::vector<int>>& visits,
                          const std::vector<long>& own_cost, long known = 0);
+
+// Locations (automaton, location) that no plan costing at most `budget` enters: with the
+// automaton's cheapest way through the location (`final_loc[a]`: where the goal pins it, or -1),
+// the others' own ways (`own_cost`) add up to more than the budget; or, for an automaton of S, the
+// assignment with its costs through the location plus the others' part does. Read by the makespan
+// bound of plans of least cost (bounds.h, cost_then_makespan). Work is capped (a cut list is never
+// wrong, only shorter).
+std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePlan& sp,
+                                                 const std::vector<std::vector<int>>& visits,
+                                                 const std::vector<long>& own_cost,
+                                                 const std::vector<int>& final_loc, long budget);
 
 }  // namespace ctb

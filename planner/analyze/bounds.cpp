@@ -107,6 +107,29 @@ ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ti
   return {objective, b.cost, b.makespan_ticks, ticks_per_second};
 }
 
+namespace {
+
+// The makespan bound of plans that cost at most `budget`: the bounds of the same model in which
+// the transitions into locations no such plan enters lead nowhere (their automaton stays where it
+// is: a self-loop keeps every index and adds no way anywhere). Every plan of that cost is a plan of
+// that model, since it never takes those transitions. 0 when no location is cut.
+long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions& o,
+                       const std::vector<std::vector<int>>& visits,
+                       const std::vector<long>& own_cost, const std::vector<int>& final_loc,
+                       long budget) {
+  const auto costly = CostlyLocations(d, sp, visits, own_cost, final_loc, budget);
+  if (costly.empty()) return 0;
+  Domain cut = d;
+  for (auto [a, l] : costly)
+    for (Transition& t : cut.automata[a].transitions)
+      if (t.to == l) t.to = t.from;
+  BoundOptions inner = o;
+  inner.least_cost_makespan = false;
+  return LowerBounds(cut, sp, inner).makespan_ticks;
+}
+
+}  // namespace
+
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOptions& o) {
   const long tps = std::max(1L, std::lround(1.0 / d.time_resolution));
   const Weight by_cost = [](const Transition& t) { return t.cost; };
@@ -192,6 +215,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
   long others = 0, helpers = 0;
   for (std::size_t a = 0; a < na; ++a) (w.helper[a] ? helpers : others) += own_cost[a];
   b.cost = std::max(b.cost, others + std::max(helpers, w.helper_cost));
+  if (o.least_cost_makespan)
+    b.makespan_ticks = std::max(
+        b.makespan_ticks, LeastCostMakespan(d, sp, o, visits, own_cost, final_loc, b.cost));
   return b;
 }
 

@@ -136,10 +136,13 @@ class Solver {
     return than->cost * cost_factor + than->makespan * makespan_factor;
   }
 
-  // The proven lower bound in the units of a model with horizon h.
+  // The proven lower bound in the units of a model with horizon h. Under cost_then_makespan the
+  // makespan part bounds only plans of the least cost (bounds.h): capped at the model's time
+  // bound, a plan that costs more (objective >= (cost + 1) * (time bound + 1)) stays above it.
   long AtLeast(int h) const {
-    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, info_.TimeBound(h));
-    return bounds_.cost * cost_factor + bounds_.makespan_ticks * makespan_factor;
+    const long time_bound = info_.TimeBound(h);
+    auto [cost_factor, makespan_factor] = ObjectiveFactors(objective_, time_bound);
+    return bounds_.cost * cost_factor + std::min(bounds_.makespan_ticks, time_bound) * makespan_factor;
   }
 
   // One member of the portfolio: an engine (engines.h) and its backend.

@@ -107,7 +107,8 @@ struct SolveOptions {
 // The lower bounds a solve computes (analyze/bounds.h): the assignment bound on cost only when the
 // objective reads cost (a makespan solve never does).
 inline BoundOptions CostBoundsFor(Objective objective) {
-  return {.assignment_cost = objective != Objective::kMakespan};
+  return {.assignment_cost = objective != Objective::kMakespan,
+          .least_cost_makespan = objective == Objective::kCostThenMakespan};
 }
 
 // Checks the options themselves (ranges); errors carry the option's name as pointer.

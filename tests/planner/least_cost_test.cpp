@@ -1,0 +1,127 @@
+// The makespan bound of plans of least cost (cost_then_makespan, BoundOptions::least_cost_makespan,
+// analyze/assignment_cost.h CostlyLocations): worked by hand on a cheap slow way against a dear
+// fast one, and against the exact engine alone (no bound to stop at) on the cost teams of
+// bench/families.py and on random teams. A bound above the lexicographic optimum would make the
+// planner call a worse plan optimal: the comparisons fail loudly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <variant>
+
+#include "planner/analyze/bounds.h"
+#include "planner/solve/solve.h"
+#include "exact_engine.h"
+#include "random_teams.h"
+#include "team_problem.h"
+#include "test_util.h"
+
+namespace ctb {
+namespace least_cost_test {
+namespace {
+
+struct Lex {
+  long cost = 0, makespan = 0;
+};
+
+// The exact engine's optimum, in ticks.
+Lex ExactOptimum(const Domain& d, const StatePlan& sp, int max_horizon) {
+  auto r = SolveDocument(d, sp, testing::ExactEngineAlone(Objective::kCostThenMakespan, max_horizon));
+  EXPECT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
+  if (!std::holds_alternative<Json>(r)) return {};
+  const Json& x = std::get<Json>(r);
+  EXPECT_EQ(x["status"], "optimal") << x.dump();
+  if (x["status"] != "optimal") return {};
+  const Json& v = x["objective"]["value"];
+  return {v["cost"].get<long>(), std::lround(v["makespan"].get<double>() / d.time_resolution)};
+}
+
+void ExpectNotAbove(const ObjectiveBounds& b, const Lex& optimum, const std::string& what) {
+  EXPECT_LE(b.cost, optimum.cost) << what << ": THE COST BOUND IS ABOVE THE OPTIMUM";
+  if (b.cost == optimum.cost)
+    EXPECT_LE(b.makespan_ticks, optimum.makespan)
+        << what << ": THE LEAST-COST MAKESPAN BOUND " << b.makespan_ticks
+        << " IS ABOVE THE OPTIMUM " << optimum.makespan;
+}
+
+constexpr BoundOptions kOn{.least_cost_makespan = true};
+
+// One robot, two ways to the goal: 10 s + 10 s at cost 1 each, or 1 s + 1 s at cost 5 each. The
+// least cost is 2, and every plan of that cost takes 20 s; the fast way's 2 s bounds only
+// makespan.
+TEST(LeastCostMakespan, ACheapSlowWayAgainstADearFastOne) {
+  Diagnostics diags;
+  auto d = LoadDomain(testing::MustParse(R"({"name": "ways", "automata": [{"name": "r",
+    "locations": ["start", "slow", "fast", "goal"], "commands": ["walk", "run"], "transitions": [
+      {"from": "start", "to": "slow", "guard": "ru[i]==walk", "cost": 1},
+      {"from": "slow", "to": "goal", "duration": [10, 10], "cost": 1},
+      {"from": "start", "to": "fast", "guard": "ru[i]==run", "cost": 5},
+      {"from": "fast", "to": "goal", "duration": [1, 1], "cost": 5}]}]})"), diags);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  auto sp = LoadStatePlan(testing::MustParse(R"({"initial_state": {"r": "start"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "rl[i+1]==goal"}})"),
+                          *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  const ObjectiveBounds off = LowerBounds(*d, *sp);
+  const ObjectiveBounds on = LowerBounds(*d, *sp, kOn);
+  EXPECT_EQ(off.cost, 2);
+  EXPECT_EQ(off.makespan_ticks, 1);  // the fast way's second move
+  EXPECT_EQ(on.cost, 2);
+  EXPECT_EQ(on.makespan_ticks, 10);  // the slow way's
+  const Lex optimum = ExactOptimum(*d, *sp, 4);
+  EXPECT_EQ(optimum.cost, 2);
+  EXPECT_EQ(optimum.makespan, 10);
+  // The solve proves it at once: the first plan meets the bound.
+  SolveOptions o;
+  o.objective = Objective::kCostThenMakespan;
+  auto r = SolveDocument(*d, *sp, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(r));
+  EXPECT_EQ(std::get<Json>(r)["status"], "optimal");
+  EXPECT_EQ(std::get<Json>(r)["stats"]["proved_by"], "lower bound");
+}
+
+// bench/families.py's cost teams (who rescues whom is free; the cheap robots are slow): the bound
+// is the exact optimum (2 robots and 2 persons; 3 robots take the exact engine about a minute).
+TEST(LeastCostMakespan, IsTheOptimumOfASmallCostTeam) {
+  for (auto [robots, persons] : {std::pair{2, 2}}) {
+    testing::TeamProblem p = testing::CostTeam(robots, persons);
+    const ObjectiveBounds on = LowerBounds(p.domain, p.plan, kOn);
+    const ObjectiveBounds off = LowerBounds(p.domain, p.plan);
+    const Lex optimum = ExactOptimum(p.domain, p.plan, 12);
+    const std::string what = std::to_string(robots) + " robots, " + std::to_string(persons) + " persons";
+    ExpectNotAbove(on, optimum, what);
+    EXPECT_EQ(on.cost, optimum.cost) << what;
+    EXPECT_EQ(on.makespan_ticks, optimum.makespan) << what;
+    EXPECT_LT(off.makespan_ticks, on.makespan_ticks) << what;
+  }
+}
+
+// Random teams (random_teams.h): never above the exact lexicographic optimum.
+TEST(LeastCostMakespan, NeverAboveTheExactOptimumOfRandomTeams) {
+  int compared = 0, bites = 0;
+  for (unsigned seed = 9100; seed < 9108; ++seed) {
+    testing::TeamProblemGenerator gen(seed);
+    testing::RandomProblem p = gen.Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    ASSERT_TRUE(d) << testing::AllErrors(diags) << p.Describe();
+    auto sp = LoadStatePlan(p.state_plan, *d, diags);
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    auto r = SolveDocument(*d, *sp, testing::ExactEngineAlone(Objective::kCostThenMakespan));
+    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
+    const Json& x = std::get<Json>(r);
+    if (x["status"] != "optimal") continue;
+    const Json& v = x["objective"]["value"];
+    const Lex optimum{v["cost"].get<long>(), std::lround(v["makespan"].get<double>() / d->time_resolution)};
+    const ObjectiveBounds on = LowerBounds(*d, *sp, kOn);
+    ExpectNotAbove(on, optimum, "seed " + std::to_string(seed) + "\n" + p.Describe());
+    bites += on.makespan_ticks > LowerBounds(*d, *sp).makespan_ticks;
+    ++compared;
+  }
+  std::cout << compared << " compared, the least-cost makespan bound rose on " << bites << "\n";
+  EXPECT_GE(compared, 6);
+  EXPECT_GE(bites, 1) << "the bound never rose: the test compares nothing new";
+}
+
+}  // namespace
+}  // namespace least_cost_test
+}  // namespace ctb
