@@ -41,9 +41,12 @@ def on(frm, to, guard):
 
 
 def assembly(blocks, arms):
-    """The assembly domain with these blocks (letters) and this many arms. Arm k's pick (place)
-    also needs that no arm numbered below k is commanded to pick the same block (place onto the
-    same block) at that stage: lower numbers have priority."""
+    """The assembly domain with these blocks (letters) and this many arms. Picking X needs that no
+    other arm is picking or holding X or placing anything onto X; placing onto Y, that no other
+    arm is placing onto Y or picking or holding Y (otherwise a block lands on one that is being
+    carried away). Arm k's pick and place also need that no arm numbered below k is commanded,
+    at that stage, to do what the locations above exclude (pick X or place onto X; place onto Y
+    or pick Y): lower numbers have priority."""
     names = [f"arm{k}" for k in range(1, arms + 1)]
     targets = {x: ["Floor"] + [y for y in blocks if y != x] for x in blocks}
     arm_locs = ["home"] + [f"picking{x}" for x in blocks] + [f"holding{x}" for x in blocks]
@@ -57,8 +60,10 @@ def assembly(blocks, arms):
             parts = [f"{arm}u[i]==pick{x}"]
             parts += [f"block{z}l[i]!=on{x}" for z in blocks if z != x]
             parts += [f"block{x}l[i]!=inArm{j}" for j in range(1, arms + 1)]
-            parts += [f"{o}l[i]!=picking{x}" for o in others]
+            parts += [f"{o}l[i]!={v}" for o in others for v in (f"picking{x}", f"holding{x}")]
+            parts += [f"{o}l[i]!=placing{z}on{x}" for o in others for z in blocks if z != x]
             parts += [f"{o}u[i]!=pick{x}" for o in names[:k]]
+            parts += [f"{o}u[i]!=place{z}on{x}" for o in names[:k] for z in blocks if z != x]
             ts.append(on("home", f"picking{x}", " /\\ ".join(parts)))
             ts.append(after(f"picking{x}", f"holding{x}", 1))
         for x in blocks:
@@ -68,7 +73,9 @@ def assembly(blocks, arms):
                     parts += [f"block{z}l[i]!=on{y}" for z in blocks if z != y]
                     parts += [f"block{y}l[i]!=inArm{j}" for j in range(1, arms + 1)]
                     parts += [f"{o}l[i]!=placing{z}on{y}" for o in others for z in blocks if z != y]
+                    parts += [f"{o}l[i]!={v}" for o in others for v in (f"picking{y}", f"holding{y}")]
                     parts += [f"{o}u[i]!=place{z}on{y}" for o in names[:k] for z in blocks if z != y]
+                    parts += [f"{o}u[i]!=pick{y}" for o in names[:k]]
                 ts.append(on(f"holding{x}", f"placing{x}on{y}", " /\\ ".join(parts)))
                 ts.append(after(f"placing{x}on{y}", "home", 2))
         automata.append({"name": arm, "locations": arm_locs, "commands": arm_cmds,

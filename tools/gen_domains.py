@@ -5,6 +5,9 @@
     gen_domains.py --check OUTDIR         exit 1 unless the files in OUTDIR equal the generated ones
     gen_domains.py --presentation-copies N FILE   presentation with N copies of each automaton
     gen_domains.py --robots N FILE        search_rescue with N robots and N persons
+    gen_domains.py --uncertain-assembly FILE          config/uncertain/assembly.json (assembly with
+                                          A's put-down on the floor taking 2 to 4 s, nature's choice)
+    gen_domains.py --check-uncertain-assembly FILE    exit 1 unless FILE equals it
 
 Every transition costs 1 (the default, so no "cost" field is written). "After N s" is an
 automatic transition with duration [N, N].
@@ -139,9 +142,14 @@ def assembly():
         for x in BLOCKS:
             clear = [f"block{z}l[i]!=on{x}" for z in BLOCKS if z != x]
             free = [f"block{x}l[i]!=inArm1", f"block{x}l[i]!=inArm2"]
-            parts = [f"{arm}u[i]==pick{x}"] + clear + free + [f"{other}l[i]!=picking{x}"]
-            if k == 1:  # arm 1 has priority: not commanded to pick X at this stage
+            # the other arm neither takes X (picking, or holding before X moves into it) nor
+            # puts anything onto X (X would carry it away)
+            parts = [f"{arm}u[i]==pick{x}"] + clear + free
+            parts += [f"{other}l[i]!=picking{x}", f"{other}l[i]!=holding{x}"]
+            parts += [f"{other}l[i]!=placing{z}on{x}" for z in BLOCKS if z != x]
+            if k == 1:  # arm 1 has priority: not commanded to pick X or place onto X at this stage
                 parts.append(f"{other}u[i]!=pick{x}")
+                parts += [f"{other}u[i]!=place{z}on{x}" for z in BLOCKS if z != x]
             guard = " /\\ ".join(parts)
             ts.append(on("home", f"picking{x}", guard))
             ts.append(after(f"picking{x}", f"holding{x}", 1))
@@ -152,8 +160,11 @@ def assembly():
                     parts += [f"block{z}l[i]!=on{y}" for z in BLOCKS if z != y]
                     parts += [f"block{y}l[i]!=inArm1", f"block{y}l[i]!=inArm2"]
                     parts += [f"{other}l[i]!=placing{z}on{y}" for z in BLOCKS if z != y]
-                    if k == 1:  # nor commanded to place anything onto Y at this stage
+                    # nor is the other arm taking Y (X would leave with it)
+                    parts += [f"{other}l[i]!=picking{y}", f"{other}l[i]!=holding{y}"]
+                    if k == 1:  # nor commanded to place onto Y or to pick Y at this stage
                         parts += [f"{other}u[i]!=place{z}on{y}" for z in BLOCKS if z != y]
+                        parts.append(f"{other}u[i]!=pick{y}")
                 ts.append(on(f"holding{x}", f"placing{x}on{y}", " /\\ ".join(parts)))
                 ts.append(after(f"placing{x}on{y}", "home", 2))
         automata.append({"name": arm, "locations": arm_locs, "commands": arm_cmds,
@@ -172,6 +183,21 @@ def assembly():
             "automata": automata}
 
 
+def uncertain_assembly():
+    """The shipped assembly with the return home after putting A on the floor taking 2 to 4 s
+    (uniform), nature's choice, for either arm (config/uncertain/README.md)."""
+    d = assembly()
+    d["name"] = "assembly_uncertain"
+    d["description"] += (" (uncertain: an arm that puts block A on the floor is back home after 2"
+                         " to 4 s instead of 2, nature's choice: A settles on the floor before the"
+                         " arm lets go)")
+    for a in d["automata"]:
+        for t in a["transitions"]:
+            if t["from"] == "placingAonFloor" and t["to"] == "home":
+                t.update(duration=[2, 4], contingent=True, distribution={"kind": "uniform"})
+    return d
+
+
 def dump(d):
     return json.dumps(d, indent=2) + "\n"
 
@@ -187,6 +213,15 @@ def main(argv):
         return 0
     if len(argv) == 3 and argv[0] == "--robots":
         open(argv[2], "w").write(dump(search_rescue(int(argv[1]))))
+        return 0
+    if len(argv) == 2 and argv[0] == "--uncertain-assembly":
+        open(argv[1], "w").write(dump(uncertain_assembly()))
+        return 0
+    if len(argv) == 2 and argv[0] == "--check-uncertain-assembly":
+        if open(argv[1]).read() != dump(uncertain_assembly()):
+            print(f"{argv[1]}: differs from tools/gen_domains.py --uncertain-assembly; regenerate it")
+            return 1
+        print("uncertain assembly matches the generator")
         return 0
     if len(argv) == 2 and argv[0] == "--check":
         bad = 0

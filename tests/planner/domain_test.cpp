@@ -328,8 +328,20 @@ TEST(ShippedDomains, AssemblyMatchesDomainsMd) {
   EXPECT_EQ(Find(d, "blockB", "inArm1", "onA")->guard_text, "arm1l[i]==placingBonA");
   const std::string& pick = Find(d, "arm1", "home", "pickingB")->guard_text;
   for (const char* part : {"arm1u[i]==pickB", "blockAl[i]!=onB", "blockCl[i]!=onB",
-                           "blockBl[i]!=inArm1", "blockBl[i]!=inArm2", "arm2l[i]!=pickingB"})
+                           "blockBl[i]!=inArm1", "blockBl[i]!=inArm2", "arm2l[i]!=pickingB",
+                           "arm2l[i]!=holdingB", "arm2l[i]!=placingAonB", "arm2l[i]!=placingConB"})
     EXPECT_NE(pick.find(part), std::string::npos) << part;
+  EXPECT_EQ(pick.find("arm2u[i]"), std::string::npos) << "arm 1 has priority";
+  // Arm 2 also reads arm 1's command at the same stage (domains.md, turn 3).
+  const std::string& pick2 = Find(d, "arm2", "home", "pickingB")->guard_text;
+  for (const char* part : {"arm1l[i]!=holdingB", "arm1l[i]!=placingConB", "arm1u[i]!=pickB",
+                           "arm1u[i]!=placeAonB", "arm1u[i]!=placeConB"})
+    EXPECT_NE(pick2.find(part), std::string::npos) << part;
+  const std::string& place = Find(d, "arm2", "holdingA", "placingAonB")->guard_text;
+  for (const char* part : {"arm2u[i]==placeAonB", "blockCl[i]!=onB", "blockBl[i]!=inArm1",
+                           "arm1l[i]!=placingConB", "arm1l[i]!=pickingB", "arm1l[i]!=holdingB",
+                           "arm1u[i]!=placeConB", "arm1u[i]!=pickB"})
+    EXPECT_NE(place.find(part), std::string::npos) << part;
 }
 
 TEST(LoadDomainFile, NamesTheFileInErrors) {
