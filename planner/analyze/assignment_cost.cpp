@@ -120,9 +120,11 @@ class ServedClauses {
   // A bound on what the automata outside S cost in every plan.
   long Others() const { return others_; }
 
-  // What S costs at least; with j >= 0, in plans where automaton j enters location v. nullopt:
-  // no assignment (then no such plan).
-  std::optional<long> Assign(int j, int v) const {
+  // What S costs at least; with j >= 0, in plans where automaton j enters location v; with
+  // `arrival`, in plans whose goal stage comes by time t (an automaton serves a clause in a
+  // location only if it can arrive there by then). nullopt: no assignment (then no such plan).
+  std::optional<long> Assign(int j, int v, const std::vector<std::vector<long>>* arrival = nullptr,
+                             long t = 0) const {
     std::vector<AssignmentRow> rows;
     std::vector<long> from_v;
     long extra = 0, j_none = 0;
@@ -137,7 +139,7 @@ class ServedClauses {
       AssignmentRow row;
       for (auto [a, l] : c) {
         const CostWays& w = ways_.at(a);
-        if (!w.Reaches(l)) continue;
+        if (!w.Reaches(l) || (arrival && (*arrival)[a][l] > t)) continue;
         if (a != j) {
           row.emplace_back(a, w.Need(l) - w.Need(-1));
         } else if (auto via = w.NeedVia(v, from_v, l)) {
@@ -258,6 +260,27 @@ std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePla
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+long LeastCostBottleneck(const Domain& d, const StatePlan& sp,
+                         const std::vector<std::vector<int>>& visits,
+                         const std::vector<long>& own_cost,
+                         const std::vector<std::vector<long>>& arrival, long budget) {
+  const ServedClauses served(d, sp, visits, own_cost);
+  if (!served.Claims()) return 0;
+  std::vector<long> times;
+  for (const Clause& c : served.clauses())
+    for (auto [a, l] : c)
+      if (served.ways().at(a).Reaches(l) && arrival[a][l] < EarliestTimes::kNever)
+        times.push_back(arrival[a][l]);
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  if (static_cast<long>(times.size() * served.clauses().size()) > kMaxLandmarkWork) return 0;
+  for (long t : times) {
+    const auto s_part = served.Assign(-1, -1, &arrival, t);
+    if (s_part && *s_part + served.Others() <= budget) return t;
+  }
+  return 0;
 }
 
 }  // namespace ctb

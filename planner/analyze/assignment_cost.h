@@ -51,4 +51,13 @@ std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePla
                                                  const std::vector<long>& own_cost,
                                                  const std::vector<int>& final_loc, long budget);
 
+// The makespan of plans costing at most `budget`, from the assignment: the least time t such that
+// an assignment of the distinct clauses to automata that can arrive by t (`arrival[a][l]`, ticks:
+// analyze/earliest.h) keeps S's cost plus the others' within the budget. 0 when nothing is claimed
+// (no choice, or no such assignment at all).
+long LeastCostBottleneck(const Domain& d, const StatePlan& sp,
+                         const std::vector<std::vector<int>>& visits,
+                         const std::vector<long>& own_cost,
+                         const std::vector<std::vector<long>>& arrival, long budget);
+
 }  // namespace ctb

@@ -116,16 +116,19 @@ namespace {
 long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions& o,
                        const std::vector<std::vector<int>>& visits,
                        const std::vector<long>& own_cost, const std::vector<int>& final_loc,
-                       long budget) {
+                       const EarliestTimes* earliest, long budget) {
+  // Which automata serve the goal's clauses: the assignment within the budget that ends soonest.
+  const long bottleneck =
+      earliest ? LeastCostBottleneck(d, sp, visits, own_cost, earliest->arrival, budget) : 0;
   const auto costly = CostlyLocations(d, sp, visits, own_cost, final_loc, budget);
-  if (costly.empty()) return 0;
+  if (costly.empty()) return bottleneck;
   Domain cut = d;
   for (auto [a, l] : costly)
     for (Transition& t : cut.automata[a].transitions)
       if (t.to == l) t.to = t.from;
   BoundOptions inner = o;
   inner.least_cost_makespan = false;
-  return LowerBounds(cut, sp, inner).makespan_ticks;
+  return std::max(bottleneck, LowerBounds(cut, sp, inner).makespan_ticks);
 }
 
 }  // namespace
@@ -217,7 +220,8 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
   b.cost = std::max(b.cost, others + std::max(helpers, w.helper_cost));
   if (o.least_cost_makespan)
     b.makespan_ticks = std::max(
-        b.makespan_ticks, LeastCostMakespan(d, sp, o, visits, own_cost, final_loc, b.cost));
+        b.makespan_ticks, LeastCostMakespan(d, sp, o, visits, own_cost, final_loc,
+                                            earliest ? &*earliest : nullptr, b.cost));
   return b;
 }
 

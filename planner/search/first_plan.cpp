@@ -39,11 +39,13 @@ enum Rank { kMacro = 0, kHelpful = 1, kWait = 2, kFull = 3, kOther = 4 };
 
 struct Entry {
   double h;
+  long then;  // the second objective so far (cost_then_makespan's time; 0 otherwise): ties on h
   int rank;
   long seq;
   int node;
   bool operator>(const Entry& o) const {
     if (h != o.h) return h > o.h;
+    if (then != o.then) return then > o.then;
     if (rank != o.rank) return rank > o.rank;
     return seq > o.seq;
   }
@@ -131,9 +133,15 @@ class Search {
 
   // Greedy on h until the first plan; then on g + h (the objective so far plus the estimate), so
   // that the improvement phase looks for better plans rather than other plans.
+  // Improving under cost_then_makespan, of two nodes equal on g + h the earlier comes first: plans
+  // of one cost differ in makespan only.
   void Push(int node, double h, Rank rank) {
-    if (improving_) h += static_cast<double>(ValueOf(pool_[node]).first);
-    open_.push({h, rank, seq_++, node});
+    long then = 0;
+    if (improving_) {
+      h += static_cast<double>(ValueOf(pool_[node]).first);
+      then = ValueOf(pool_[node]).second;
+    }
+    open_.push({h, then, rank, seq_++, node});
   }
 
   // At the first plan: the open list again, ordered on g + h.
@@ -142,6 +150,7 @@ class Search {
     for (; !open_.empty(); open_.pop()) all.push_back(open_.top());
     for (Entry e : all) {
       e.h += static_cast<double>(ValueOf(pool_[e.node]).first);
+      e.then = ValueOf(pool_[e.node]).second;
       open_.push(e);
     }
     improving_ = true;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <variant>
 
 #include "planner/analyze/bounds.h"
@@ -77,6 +78,39 @@ TEST(LeastCostMakespan, ACheapSlowWayAgainstADearFastOne) {
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   EXPECT_EQ(std::get<Json>(r)["status"], "optimal");
   EXPECT_EQ(std::get<Json>(r)["stats"]["proved_by"], "lower bound");
+}
+
+// Two persons, three robots: A cheap (1) and slow (10 s), B and C dear (3) and fast (1 s). Each
+// robot alone may serve either person within the least cost (4: A and one of B, C), so no location
+// is cut; but every assignment within that cost has A serve someone: the least-cost makespan is
+// A's 10 s (LeastCostBottleneck), where the unconditional bound is 1 s.
+TEST(LeastCostMakespan, EveryCheapEnoughAssignmentWaitsForTheSlowRobot) {
+  Json automata = Json::array();
+  for (auto [name, cost, time] : {std::tuple{"a", 1, 10}, std::tuple{"b", 3, 1}, std::tuple{"c", 3, 1}}) {
+    const std::string n = name;
+    Json ts = Json::array();
+    for (int p : {1, 2})
+      ts.push_back({{"from", "start"}, {"to", "p" + std::to_string(p)},
+                    {"guard", n + "u[i]==go" + std::to_string(p)}, {"cost", cost},
+                    {"duration", {time, time}}});
+    automata.push_back({{"name", n}, {"locations", {"start", "p1", "p2"}},
+                        {"commands", {"go1", "go2"}}, {"transitions", ts}});
+  }
+  Diagnostics diags;
+  auto d = LoadDomain(Json{{"name", "team"}, {"automata", automata}}, diags);
+  ASSERT_TRUE(d) << testing::AllErrors(diags);
+  auto sp = LoadStatePlan(testing::MustParse(R"json({"initial_state": {"a": "start", "b": "start",
+    "c": "start"}, "end_state": {"maintenance_constraint": "true", "goal_constraint":
+    "(al[i+1]==p1 \\/ bl[i+1]==p1 \\/ cl[i+1]==p1) /\\ (al[i+1]==p2 \\/ bl[i+1]==p2 \\/ cl[i+1]==p2)"}})json"),
+                          *d, diags);
+  ASSERT_TRUE(sp) << testing::AllErrors(diags);
+  const ObjectiveBounds on = LowerBounds(*d, *sp, kOn);
+  EXPECT_EQ(on.cost, 4);
+  EXPECT_EQ(on.makespan_ticks, 10);
+  EXPECT_EQ(LowerBounds(*d, *sp).makespan_ticks, 1);
+  const Lex optimum = ExactOptimum(*d, *sp, 6);
+  EXPECT_EQ(optimum.cost, 4);
+  EXPECT_EQ(optimum.makespan, 10);
 }
 
 // bench/families.py's cost teams (who rescues whom is free; the cheap robots are slow): the bound
