@@ -124,7 +124,8 @@ int RunRemoteSolve(const SolveCliOptions& o) {
   return 0;
 }
 
-int RunSolve(const SolveCliOptions& o) {
+// Exit code 2 for arguments that do not fit together; nullopt when they do.
+std::optional<int> BadArguments(const SolveCliOptions& o) {
   const bool direct = o.domain.empty();  // --pddl DOMAIN PROBLEM imported here
   if (direct && (o.pddl_files.size() != 2 || !o.file.empty())) {
     std::cerr << "error: give --domain and a state plan file, or --pddl DOMAIN PROBLEM alone\n";
@@ -134,56 +135,58 @@ int RunSolve(const SolveCliOptions& o) {
     std::cerr << "error: the state plan file is missing\n";
     return 2;
   }
-  if (!o.server.empty()) {
-    if (direct) {
-      std::cerr << "error: --server takes --domain and a state plan file\n";
-      return 2;
-    }
-    return RunRemoteSolve(o);
+  if (direct && !o.server.empty()) {
+    std::cerr << "error: --server takes --domain and a state plan file\n";
+    return 2;
   }
-  std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
+  return std::nullopt;
+}
+
+// What is solved: the domain and state plan from local files, or imported from PDDL.
+struct SolveInputs {
   std::optional<Domain> domain;
-  std::optional<Json> json;
-  if (!direct) {
-    // Local files: LocalFileLimits (256 MiB), not the 4 MiB of an HTTP body.
-    Diagnostics dd;
-    domain = LoadDomainByNameOrPath(o.domain, config, dd, nullptr, LocalFileLimits());
-    if (!domain) {
-      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
-      return 2;
-    }
-    Diagnostics diags;
-    json = ReadJsonFile(o.file, diags, LocalFileLimits());
-    if (!json) {
-      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
-      return 1;
-    }
+  Json state_plan;
+  std::optional<DirectPddl> imported;
+};
+
+// --domain and the state plan file, with LocalFileLimits (256 MiB), not the 4 MiB of an HTTP
+// body. 0, or the exit code after the error is printed.
+int LoadLocalInputs(const SolveCliOptions& o, const std::string& config, SolveInputs& in) {
+  Diagnostics dd;
+  in.domain = LoadDomainByNameOrPath(o.domain, config, dd, nullptr, LocalFileLimits());
+  if (!in.domain) {
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid domain", dd));
+    return 2;
   }
-  if (!o.objective.empty() && !ParseObjective(o.objective)) {
-    std::cerr << "error: unknown objective '" << o.objective << "'\n";
+  Diagnostics diags;
+  auto json = ReadJsonFile(o.file, diags, LocalFileLimits());
+  if (!json) {
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid state plan " + o.file, diags));
     return 1;
   }
-  auto opened = OpenLocalCore(config, false);
-  if (auto* e = std::get_if<Error>(&opened)) {
-    PrintError(*e);
-    return 3;
+  in.state_plan = std::move(*json);
+  return 0;
+}
+
+// --pddl DOMAIN PROBLEM alone: imported through the core. 0, or the exit code.
+int ImportInputs(app::Core& core, const SolveCliOptions& o, SolveInputs& in) {
+  in.imported = ImportForSolve(core, o);
+  if (!in.imported) return 1;
+  Diagnostics dd;
+  in.domain = LoadDomain(in.imported->action_model, dd);
+  if (!in.domain) {  // the import checks that its model loads: not expected
+    PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid imported domain", dd));
+    return 2;
   }
-  auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
+  in.state_plan = in.imported->state_plan;
+  return 0;
+}
+
+app::SolveCall MakeSolveCall(const SolveCliOptions& o, SolveInputs& in) {
+  const bool direct = in.imported.has_value();
   app::SolveCall call;
-  std::optional<DirectPddl> imported;
-  if (direct) {
-    imported = ImportForSolve(core, o);
-    if (!imported) return 1;
-    Diagnostics dd;
-    domain = LoadDomain(imported->action_model, dd);
-    if (!domain) {  // the import checks that its model loads: not expected
-      PrintError(Error::FromDiagnostics(ErrorCode::kInvalidInput, "invalid imported domain", dd));
-      return 2;
-    }
-    json = imported->state_plan;
-  }
-  call.domain.loaded = std::make_shared<const Domain>(std::move(*domain));
-  call.state_plan = *json;
+  call.domain.loaded = std::make_shared<const Domain>(std::move(*in.domain));
+  call.state_plan = std::move(in.state_plan);
   if (!o.objective.empty()) call.options.objective = o.objective;
   if (!o.controllability.empty()) call.options.controllability = o.controllability;
   call.options.risk_bound = o.risk_bound;
@@ -200,27 +203,51 @@ int RunSolve(const SolveCliOptions& o) {
     so.first_plan_ms = o.first_plan_ms;
     so.model_out = o.model_out;
   };
+  return call;
+}
+
+// Prints the answer and writes --pddl-plan. 0, or 3 when the plan file cannot be written.
+int WriteAnswer(const SolveCliOptions& o, const Json& answer, const std::optional<DirectPddl>& imported) {
+  std::cout << (o.compact ? WireText(answer) : PrettyText(answer)) << "\n";
+  if (o.pddl_plan.empty()) return 0;
+  if (!imported) return WritePddlPlan(o, answer) ? 0 : 3;
+  std::ofstream out(o.pddl_plan);
+  out << pddl::PddlPlan(answer, imported->actions);
+  if (!out) {
+    std::cerr << "error: cannot write " << o.pddl_plan << "\n";
+    return 3;
+  }
+  return 0;
+}
+
+int RunSolve(const SolveCliOptions& o) {
+  if (auto bad = BadArguments(o)) return *bad;
+  if (!o.server.empty()) return RunRemoteSolve(o);
+  const bool direct = o.domain.empty();
+  const std::string config = o.config_dir.empty() ? DefaultConfigDir() : o.config_dir;
+  SolveInputs in;
+  if (!direct)
+    if (int rc = LoadLocalInputs(o, config, in)) return rc;
+  if (!o.objective.empty() && !ParseObjective(o.objective)) {
+    std::cerr << "error: unknown objective '" << o.objective << "'\n";
+    return 1;
+  }
+  auto opened = OpenLocalCore(config, false);
+  if (auto* e = std::get_if<Error>(&opened)) {
+    PrintError(*e);
+    return 3;
+  }
+  auto& core = *std::get<std::unique_ptr<app::Core>>(opened);
+  if (direct)
+    if (int rc = ImportInputs(core, o, in)) return rc;
+  app::SolveCall call = MakeSolveCall(o, in);
   PrintStatePlanWarnings(core, call.domain, call.state_plan);
   auto result = core.Solve(call, {});
   if (auto* e = std::get_if<Error>(&result)) {
     PrintError(RelativeTo(*e, "/state_plan"));
     return e->code == ErrorCode::kInvalidInput ? 1 : 3;
   }
-  const Json& answer = std::get<app::Answer>(result).document;
-  std::cout << (o.compact ? WireText(answer) : PrettyText(answer)) << "\n";
-  if (!o.pddl_plan.empty()) {
-    if (imported) {
-      std::ofstream out(o.pddl_plan);
-      out << pddl::PddlPlan(answer, imported->actions);
-      if (!out) {
-        std::cerr << "error: cannot write " << o.pddl_plan << "\n";
-        return 3;
-      }
-    } else if (!WritePddlPlan(o, answer)) {
-      return 3;
-    }
-  }
-  return 0;
+  return WriteAnswer(o, std::get<app::Answer>(result).document, in.imported);
 }
 }  // namespace
 
