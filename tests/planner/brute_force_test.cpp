@@ -285,7 +285,7 @@ Truth CompareWithTruth(const testing::RandomProblem& p, unsigned seed) {
 
 TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
   int compared = 0, feasible = 0, infeasible = 0;
-  for (unsigned seed = 1000; seed < 1060; ++seed) {
+  for (unsigned seed = 1000; seed < 1040; ++seed) {
     testing::ProblemGenerator gen(seed, TinyShape());
     const Truth t = CompareWithTruth(gen.Next(), seed);
     if (t == Truth::kSkipped) continue;
@@ -293,9 +293,9 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
     ++compared;
   }
   // The sample must exercise both answers.
-  EXPECT_GE(compared, 40);
-  EXPECT_GE(feasible, 10);
-  EXPECT_GE(infeasible, 3);
+  EXPECT_GE(compared, 27);
+  EXPECT_GE(feasible, 7);
+  EXPECT_GE(infeasible, 2);
 }
 
 // Action events (contract section 15, issue 28): random actions of the tiny problems' automata,
@@ -303,7 +303,7 @@ TEST(BruteForce, TinyProblemsHaveTheTrueOptimum) {
 // The enumeration places the orders' events and the verifier keeps the plans that obey them.
 TEST(BruteForce, ActionRulesHaveTheTrueOptimum) {
   int compared = 0, feasible = 0, infeasible = 0, with_orders = 0;
-  for (unsigned seed = 5000; seed < 5060; ++seed) {
+  for (unsigned seed = 5000; seed < 5040; ++seed) {
     testing::ProblemGenerator gen(seed, TinyShape());
     testing::RandomProblem p = gen.Next();
     Diagnostics diags;
@@ -318,10 +318,10 @@ TEST(BruteForce, ActionRulesHaveTheTrueOptimum) {
     ++(t == Truth::kFeasible ? feasible : infeasible);
     ++compared;
   }
-  EXPECT_GE(compared, 30);
-  EXPECT_GE(feasible, 8);
-  EXPECT_GE(infeasible, 3);
-  EXPECT_GE(with_orders, 20);
+  EXPECT_GE(compared, 20);
+  EXPECT_GE(feasible, 5);
+  EXPECT_GE(infeasible, 2);
+  EXPECT_GE(with_orders, 13);
 }
 
 // Goals that leave a choice (issue 18's `assign` family in small): a conjunction of disjunctions
@@ -464,7 +464,7 @@ TEST(BruteForce, WorkloadBoundHoldsOnTinyHelperProblems) {
 
 TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
   int compared = 0, bites = 0, tight = 0;
-  for (unsigned seed = 100; seed < 124; ++seed) {
+  for (unsigned seed = 100; seed < 114; ++seed) {
     testing::HelperProblemGenerator gen(seed);
     testing::RandomProblem p = gen.Next();
     Diagnostics diags;
@@ -508,8 +508,8 @@ TEST(BruteForce, WorkloadBoundBelowExactOptimaOfHelperProblems) {
   }
   std::cout << compared << " compared, workload bound decisive " << bites << " times, tight " << tight
             << " times\n";
-  EXPECT_GE(compared, 12);
-  EXPECT_GE(bites, 6);
+  EXPECT_GE(compared, 7);
+  EXPECT_GE(bites, 3);
 }
 
 // The assignment bound on cost (analyze/assignment_cost.h, issue 29 item 2) on random teams
@@ -549,7 +549,7 @@ TEST(BruteForce, AssignmentCostBoundHoldsOnTinyTeams) {
 // events), and the planner answers the same with the bound and without it.
 TEST(BruteForce, AssignmentCostBoundBelowExactOptimaOfTeams) {
   int compared = 0, bites = 0, tight = 0;
-  for (unsigned seed = 9100; seed < 9124; ++seed) {
+  for (unsigned seed = 9100; seed < 9116; ++seed) {
     testing::TeamProblemGenerator gen(seed);
     testing::RandomProblem p = gen.Next();
     Diagnostics diags;
@@ -591,8 +591,8 @@ TEST(BruteForce, AssignmentCostBoundBelowExactOptimaOfTeams) {
   }
   std::cout << compared << " compared, the assignment cost bound raised the bound on " << bites
             << ", equal to the optimum on " << tight << "\n";
-  EXPECT_GE(compared, 18);
-  EXPECT_GE(bites, 5);
+  EXPECT_GE(compared, 12);
+  EXPECT_GE(bites, 3);
 }
 
 }  // namespace

@@ -298,7 +298,7 @@ TEST(Differential, EitherOrderNearMissesAreInfeasibleForEachSolver) {
 // must agree; z3, which does not read orders, stands aside and the default answers for it.
 TEST(Differential, ActionRulesAgreeAcrossEngines) {
   int loaded = 0, decided = 0;
-  for (unsigned seed = 7000; seed < 7030; ++seed) {
+  for (unsigned seed = 7000; seed < 7020; ++seed) {
     testing::ProblemGenerator gen(seed);
     testing::RandomProblem p = gen.Next();
     Diagnostics diags;
@@ -334,15 +334,14 @@ TEST(Differential, ActionRulesAgreeAcrossEngines) {
     }
     decided += out[0].status == "optimal" || out[0].status == "infeasible";
   }
-  EXPECT_EQ(loaded, 30);
-  EXPECT_EQ(decided, 30);
+  EXPECT_EQ(loaded, 20);
+  EXPECT_EQ(decided, 20);
 }
 
-// Four shards of 30 seeds (50 each until session 37: the suite had to fit its 15 minutes; more
-// with CTB_DIFF_SEED / CTB_DIFF_COUNT below).
+// Three shards of 30 seeds (50 each until session 37, four shards until session 42: the suite had
+// to fit its 15 minutes; more with CTB_DIFF_SEED / CTB_DIFF_COUNT below).
 TEST(Differential, Seeds0To29) { EXPECT_EQ(CheckRange(0, 30), 30); }
 TEST(Differential, Seeds50To79) { EXPECT_EQ(CheckRange(50, 30), 30); }
-TEST(Differential, Seeds100To129) { EXPECT_EQ(CheckRange(100, 30), 30); }
 TEST(Differential, Seeds150To179) { EXPECT_EQ(CheckRange(150, 30), 30); }
 
 // Seeds given in the environment (CTB_DIFF_SEED, CTB_DIFF_COUNT), for replaying cases by hand
