@@ -87,7 +87,7 @@ Clauses DistinctClauses(Clauses all) {
 }
 
 // The goal's distinct clauses served by the automata of S (the automata they name), at their own
-// costs: what AssignmentCostBound and CostlyLocations share.
+// costs: what AssignmentCostBound and ReachWithinBudget share.
 class ServedClauses {
  public:
   ServedClauses(const Domain& d, const StatePlan& sp, const std::vector<std::vector<int>>& visits,
@@ -223,51 +223,48 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
   return s_part + others;
 }
 
-std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePlan& sp,
-                                                 const std::vector<std::vector<int>>& visits,
-                                                 const std::vector<long>& own_cost,
-                                                 const std::vector<int>& final_loc, long budget) {
-  std::vector<std::pair<int, int>> out;
-  const int na = static_cast<int>(d.automata.size());
-  long work = 0;
-  // Each automaton alone: the others' own ways plus its own through the location.
+namespace {
+
+// Each automaton alone: locations where its cheapest way through them plus the others' own ways
+// exceed the budget. False when the work cap stopped it (the list so far still holds).
+bool AddCostlyAlone(const Domain& d, const StatePlan& sp, const std::vector<std::vector<int>>& visits,
+                    const std::vector<long>& own_cost, const std::vector<int>& final_loc, long budget,
+                    long& work, std::vector<std::pair<int, int>>& out) {
   long all_own = 0;
   for (long c : own_cost) all_own += c;
-  for (int a = 0; a < na; ++a) {
+  for (int a = 0; a < static_cast<int>(d.automata.size()); ++a) {
     const CostWays w(d.automata[a], sp.initial[a], visits[a]);
     const int nl = static_cast<int>(d.automata[a].locations.size());
     work += nl;
-    if (work > kMaxLandmarkWork) return out;
+    if (work > kMaxLandmarkWork) return false;
     for (int v = 0; v < nl; ++v) {
       if (v == sp.initial[a] || !w.Reaches(v)) continue;
       const auto via = w.NeedVia(v, w.From(v), final_loc[a]);
       if (!via || all_own - own_cost[a] + std::max(own_cost[a], *via) > budget) out.emplace_back(a, v);
     }
   }
-  // The automata of S under the assignment.
-  const ServedClauses served(d, sp, visits, own_cost);
-  if (!served.Claims()) return out;
+  return true;
+}
+
+// The automata of S under the assignment: locations where the assignment with that automaton's
+// costs through them, plus the others' part, exceeds the budget.
+void AddCostlyServed(const Domain& d, const StatePlan& sp, const ServedClauses& served, long budget,
+                     long& work, std::vector<std::pair<int, int>>& out) {
   for (const auto& [j, w] : served.ways()) {
     const int nl = static_cast<int>(d.automata[j].locations.size());
     work += nl * static_cast<long>(served.clauses().size() + 1);
-    if (work > kMaxLandmarkWork) break;
+    if (work > kMaxLandmarkWork) return;
     for (int v = 0; v < nl; ++v) {
       if (v == sp.initial[j] || !w.Reaches(v)) continue;
       const auto via = served.Assign(j, v);
       if (!via || *via + served.Others() > budget) out.emplace_back(j, v);
     }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
 }
 
-long LeastCostBottleneck(const Domain& d, const StatePlan& sp,
-                         const std::vector<std::vector<int>>& visits,
-                         const std::vector<long>& own_cost,
-                         const std::vector<std::vector<long>>& arrival, long budget) {
-  const ServedClauses served(d, sp, visits, own_cost);
-  if (!served.Claims()) return 0;
+// The least time by which automata that can arrive serve the clauses within the budget; 0 when
+// none does (or the work cap).
+long Bottleneck(const ServedClauses& served, const std::vector<std::vector<long>>& arrival, long budget) {
   std::vector<long> times;
   for (const Clause& c : served.clauses())
     for (auto [a, l] : c)
@@ -281,6 +278,25 @@ long LeastCostBottleneck(const Domain& d, const StatePlan& sp,
     if (s_part && *s_part + served.Others() <= budget) return t;
   }
   return 0;
+}
+
+}  // namespace
+
+WithinBudget ReachWithinBudget(const Domain& d, const StatePlan& sp,
+                               const std::vector<std::vector<int>>& visits,
+                               const std::vector<long>& own_cost, const std::vector<int>& final_loc,
+                               const std::vector<std::vector<long>>* arrival, long budget) {
+  WithinBudget r;
+  long work = 0;
+  const bool alone_done = AddCostlyAlone(d, sp, visits, own_cost, final_loc, budget, work, r.costly);
+  const ServedClauses served(d, sp, visits, own_cost);  // the others' LM-cut: built once
+  if (served.Claims()) {
+    if (alone_done) AddCostlyServed(d, sp, served, budget, work, r.costly);
+    if (arrival) r.bottleneck = Bottleneck(served, *arrival, budget);
+  }
+  std::sort(r.costly.begin(), r.costly.end());
+  r.costly.erase(std::unique(r.costly.begin(), r.costly.end()), r.costly.end());
+  return r;
 }
 
 }  // namespace ctb

@@ -40,24 +40,23 @@ long AssignmentCostBound(const Domain& d, const StatePlan& sp,
                          const std::vector<std::vector<int>>& visits,
                          const std::vector<long>& own_cost, long known = 0);
 
-// Locations (automaton, location) that no plan costing at most `budget` enters: with the
-// automaton's cheapest way through the location (`final_loc[a]`: where the goal pins it, or -1),
-// the others' own ways (`own_cost`) add up to more than the budget; or, for an automaton of S, the
-// assignment with its costs through the location plus the others' part does. Read by the makespan
-// bound of plans of least cost (bounds.h, cost_then_makespan). Work is capped (a cut list is never
-// wrong, only shorter).
-std::vector<std::pair<int, int>> CostlyLocations(const Domain& d, const StatePlan& sp,
-                                                 const std::vector<std::vector<int>>& visits,
-                                                 const std::vector<long>& own_cost,
-                                                 const std::vector<int>& final_loc, long budget);
-
-// The makespan of plans costing at most `budget`, from the assignment: the least time t such that
-// an assignment of the distinct clauses to automata that can arrive by t (`arrival[a][l]`, ticks:
-// analyze/earliest.h) keeps S's cost plus the others' within the budget. 0 when nothing is claimed
-// (no choice, or no such assignment at all).
-long LeastCostBottleneck(const Domain& d, const StatePlan& sp,
-                         const std::vector<std::vector<int>>& visits,
-                         const std::vector<long>& own_cost,
-                         const std::vector<std::vector<long>>& arrival, long budget);
+// What plans costing at most `budget` can reach, for the makespan bound of plans of least cost
+// (bounds.h, cost_then_makespan):
+// - `costly`: locations (automaton, location) no such plan enters: with the automaton's cheapest
+//   way through the location (`final_loc[a]`: where the goal pins it, or -1), the others' own
+//   ways (`own_cost`) add up to more than the budget; or, for an automaton of S, the assignment
+//   with its costs through the location plus the others' part does;
+// - `bottleneck`: the least time t such that an assignment of the distinct clauses to automata
+//   that can arrive by t (`arrival[a][l]`, ticks: analyze/earliest.h) keeps S's cost plus the
+//   others' within the budget; 0 when nothing is claimed or without `arrival`.
+// Work is capped (a shorter cut list and a 0 bottleneck are never wrong, only weaker).
+struct WithinBudget {
+  std::vector<std::pair<int, int>> costly;
+  long bottleneck = 0;
+};
+WithinBudget ReachWithinBudget(const Domain& d, const StatePlan& sp,
+                               const std::vector<std::vector<int>>& visits,
+                               const std::vector<long>& own_cost, const std::vector<int>& final_loc,
+                               const std::vector<std::vector<long>>* arrival, long budget);
 
 }  // namespace ctb

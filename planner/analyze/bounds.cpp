@@ -109,26 +109,26 @@ ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ti
 
 namespace {
 
-// The makespan bound of plans that cost at most `budget`: the bounds of the same model in which
-// the transitions into locations no such plan enters lead nowhere (their automaton stays where it
-// is: a self-loop keeps every index and adds no way anywhere). Every plan of that cost is a plan of
-// that model, since it never takes those transitions. 0 when no location is cut.
+// The makespan bound of plans that cost at most `budget`: the cheap enough assignment that ends
+// soonest, and the bounds of the same model in which the transitions into locations no such plan
+// enters lead nowhere (their automaton stays where it is: a self-loop keeps every index and adds
+// no way anywhere). Every plan of that cost is a plan of that model, since it never takes those
+// transitions.
 long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions& o,
                        const std::vector<std::vector<int>>& visits,
                        const std::vector<long>& own_cost, const std::vector<int>& final_loc,
                        const EarliestTimes* earliest, long budget) {
-  // Which automata serve the goal's clauses: the assignment within the budget that ends soonest.
-  const long bottleneck =
-      earliest ? LeastCostBottleneck(d, sp, visits, own_cost, earliest->arrival, budget) : 0;
-  const auto costly = CostlyLocations(d, sp, visits, own_cost, final_loc, budget);
-  if (costly.empty()) return bottleneck;
+  const WithinBudget reach = ReachWithinBudget(d, sp, visits, own_cost, final_loc,
+                                               earliest ? &earliest->arrival : nullptr, budget);
+  if (reach.costly.empty()) return reach.bottleneck;
   Domain cut = d;
-  for (auto [a, l] : costly)
+  for (auto [a, l] : reach.costly)
     for (Transition& t : cut.automata[a].transitions)
       if (t.to == l) t.to = t.from;
   BoundOptions inner = o;
   inner.least_cost_makespan = false;
-  return std::max(bottleneck, LowerBounds(cut, sp, inner).makespan_ticks);
+  inner.assignment_cost = false;  // only the makespan is read
+  return std::max(reach.bottleneck, LowerBounds(cut, sp, inner).makespan_ticks);
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ struct BoundOptions {
   bool turns = true;
   // cost_then_makespan: the makespan part bounds only the plans of the least cost the cost part
   // allows (a lexicographic bound): the same bounds on the model without the locations no plan of
-  // that cost enters (analyze/assignment_cost.h, CostlyLocations). Not a bound on every plan's
+  // that cost enters (analyze/assignment_cost.h, ReachWithinBudget). Not a bound on every plan's
   // makespan: set it for that objective only (solve.h, CostBoundsFor).
   bool least_cost_makespan = false;
 };

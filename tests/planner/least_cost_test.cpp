@@ -1,5 +1,5 @@
 // The makespan bound of plans of least cost (cost_then_makespan, BoundOptions::least_cost_makespan,
-// analyze/assignment_cost.h CostlyLocations): worked by hand on a cheap slow way against a dear
+// analyze/assignment_cost.h ReachWithinBudget): worked by hand on a cheap slow way against a dear
 // fast one, and against the exact engine alone (no bound to stop at) on the cost teams of
 // bench/families.py and on random teams. A bound above the lexicographic optimum would make the
 // planner call a worse plan optimal: the comparisons fail loudly.
@@ -24,6 +24,11 @@ struct Lex {
   long cost = 0, makespan = 0;
 };
 
+// An answer's cost_then_makespan value, the makespan in ticks.
+Lex LexOf(const Json& value, const Domain& d) {
+  return {value["cost"].get<long>(), std::lround(value["makespan"].get<double>() / d.time_resolution)};
+}
+
 // The exact engine's optimum, in ticks.
 Lex ExactOptimum(const Domain& d, const StatePlan& sp, int max_horizon) {
   auto r = SolveDocument(d, sp, testing::ExactEngineAlone(Objective::kCostThenMakespan, max_horizon));
@@ -32,8 +37,7 @@ Lex ExactOptimum(const Domain& d, const StatePlan& sp, int max_horizon) {
   const Json& x = std::get<Json>(r);
   EXPECT_EQ(x["status"], "optimal") << x.dump();
   if (x["status"] != "optimal") return {};
-  const Json& v = x["objective"]["value"];
-  return {v["cost"].get<long>(), std::lround(v["makespan"].get<double>() / d.time_resolution)};
+  return LexOf(x["objective"]["value"], d);
 }
 
 void ExpectNotAbove(const ObjectiveBounds& b, const Lex& optimum, const std::string& what) {
@@ -83,7 +87,7 @@ TEST(LeastCostMakespan, ACheapSlowWayAgainstADearFastOne) {
 // Two persons, three robots: A cheap (1) and slow (10 s), B and C dear (3) and fast (1 s). Each
 // robot alone may serve either person within the least cost (4: A and one of B, C), so no location
 // is cut; but every assignment within that cost has A serve someone: the least-cost makespan is
-// A's 10 s (LeastCostBottleneck), where the unconditional bound is 1 s.
+// A's 10 s (ReachWithinBudget's bottleneck), where the unconditional bound is 1 s.
 TEST(LeastCostMakespan, EveryCheapEnoughAssignmentWaitsForTheSlowRobot) {
   Json automata = Json::array();
   for (auto [name, cost, time] : {std::tuple{"a", 1, 10}, std::tuple{"b", 3, 1}, std::tuple{"c", 3, 1}}) {
@@ -144,8 +148,7 @@ TEST(LeastCostMakespan, NeverAboveTheExactOptimumOfRandomTeams) {
     ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
     const Json& x = std::get<Json>(r);
     if (x["status"] != "optimal") continue;
-    const Json& v = x["objective"]["value"];
-    const Lex optimum{v["cost"].get<long>(), std::lround(v["makespan"].get<double>() / d->time_resolution)};
+    const Lex optimum = LexOf(x["objective"]["value"], *d);
     const ObjectiveBounds on = LowerBounds(*d, *sp, kOn);
     ExpectNotAbove(on, optimum, "seed " + std::to_string(seed) + "\n" + p.Describe());
     bites += on.makespan_ticks > LowerBounds(*d, *sp).makespan_ticks;

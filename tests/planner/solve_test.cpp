@@ -113,21 +113,27 @@ TEST(SolveFigures, AssemblyMakespan4IsTheExactOptimum) {
   EXPECT_EQ(t["objective"]["value"], 4);
 }
 
-// domains.md (turn 3): two arms may not start placing onto one block at one event (arm 1 has
-// priority), so two blocks can never both rest on C. Before the rule this was "optimal" at t = 2.
-TEST(SolveFigures, AssemblyTwoBlocksOnOneBlockIsInfeasible) {
+// The assembly team with every block on the floor and both arms home, asked `goal` (makespan,
+// at most 6 events), written to `file` in the tests' temporary folder.
+Json SolveFromTheFloor(const std::string& goal, const std::string& file) {
   Json plan = testing::MustParse(R"({
     "initial_state": {"arm1": "home", "arm2": "home", "blockA": "onFloor", "blockB": "onFloor",
                       "blockC": "onFloor"},
-    "end_state": {"maintenance_constraint": "true", "goal_constraint": "blockA[i+1]==onC /\\ blockB[i+1]==onC"},
-    "objective": "makespan"})");
-  const std::string path = ::testing::TempDir() + "/two_on_c.json";
+    "end_state": {"maintenance_constraint": "true"}, "objective": "makespan"})");
+  plan["end_state"]["goal_constraint"] = goal;
+  const std::string path = ::testing::TempDir() + "/" + file;
   std::ofstream(path) << plan.dump();
   SolveOptions o;
+  o.max_horizon = 6;
+  return SolveExample("assembly", path, std::nullopt, o);
+}
+
+// domains.md (turn 3): two arms may not start placing onto one block at one event (arm 1 has
+// priority), so two blocks can never both rest on C. Before the rule this was "optimal" at t = 2.
+TEST(SolveFigures, AssemblyTwoBlocksOnOneBlockIsInfeasible) {
   // The plan the rule removes has 4 events (both pick, both hold, both blocks in arms, both
   // place): 6 covers it and keeps the proof short.
-  o.max_horizon = 6;
-  Json t = SolveExample("assembly", path, std::nullopt, o);
+  Json t = SolveFromTheFloor("blockA[i+1]==onC /\\ blockB[i+1]==onC", "two_on_c.json");
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "infeasible");
   EXPECT_EQ(t["verified"], false);
@@ -138,16 +144,8 @@ TEST(SolveFigures, AssemblyTwoBlocksOnOneBlockIsInfeasible) {
 // on the floor. Before the guards (placing onto Y: no other arm holding Y) this was "optimal" at
 // t = 1, A on B and B on A, and verified.
 TEST(SolveFigures, AssemblyTwoBlocksOnEachOtherIsInfeasible) {
-  Json plan = testing::MustParse(R"({
-    "initial_state": {"arm1": "home", "arm2": "home", "blockA": "onFloor", "blockB": "onFloor",
-                      "blockC": "onFloor"},
-    "end_state": {"maintenance_constraint": "true", "goal_constraint": "blockA[i+1]==onB /\\ blockB[i+1]==onA"},
-    "objective": "makespan"})");
-  const std::string path = ::testing::TempDir() + "/a_on_b_on_a.json";
-  std::ofstream(path) << plan.dump();
-  SolveOptions o;
-  o.max_horizon = 6;  // the plan the guards remove has 5 events
-  Json t = SolveExample("assembly", path, std::nullopt, o);
+  // The plan the guards remove has 5 events: the horizon of 6 covers it.
+  Json t = SolveFromTheFloor("blockA[i+1]==onB /\\ blockB[i+1]==onA", "a_on_b_on_a.json");
   ASSERT_TRUE(t.is_object());
   EXPECT_EQ(t["status"], "infeasible");
   EXPECT_EQ(t["verified"], false);
