@@ -136,12 +136,16 @@ class Search {
   // Improving under cost_then_makespan, of two nodes equal on g + h the earlier comes first: plans
   // of one cost differ in makespan only.
   void Push(int node, double h, Rank rank) {
-    long then = 0;
-    if (improving_) {
-      h += static_cast<double>(ValueOf(pool_[node]).first);
-      then = ValueOf(pool_[node]).second;
-    }
-    open_.push({h, then, rank, seq_++, node});
+    Entry e{h, 0, rank, seq_++, node};
+    if (improving_) Rekey(e);
+    open_.push(e);
+  }
+
+  // An entry of the improvement phase: on g + h, ties on the second objective so far.
+  void Rekey(Entry& e) const {
+    const Value g = ValueOf(pool_[e.node]);
+    e.h += static_cast<double>(g.first);
+    e.then = g.second;
   }
 
   // At the first plan: the open list again, ordered on g + h.
@@ -149,8 +153,7 @@ class Search {
     std::vector<Entry> all;
     for (; !open_.empty(); open_.pop()) all.push_back(open_.top());
     for (Entry e : all) {
-      e.h += static_cast<double>(ValueOf(pool_[e.node]).first);
-      e.then = ValueOf(pool_[e.node]).second;
+      Rekey(e);
       open_.push(e);
     }
     improving_ = true;
@@ -178,7 +181,8 @@ class Search {
   }
 
   // Preferred successors first (the helpful transitions together, each alone at its earliest
-  // time, at the monitors' target times and that transition's lead before them, waiting); the others on the node's second turn.
+  // time, at the monitors' target times and that transition's lead before them, waiting); the
+  // others on the node's second turn.
   // When the helpful transitions fire together, each alone waits for the second turn too: with
   // a team of hundreds, generating every single one at every node was most of the search.
   void Expand(int idx, bool preferred) {
