@@ -11,7 +11,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace actions_test {
 
 using testing::MustParse;
 using testing::ShippedDomain;
@@ -275,5 +277,5 @@ TEST(ActionEvents, SharedEventsMayNameAnAction) {
   EXPECT_EQ(s.makespan, kToDoor1 + kViaOpenDoor1);
 }
 
-}  // namespace
+}  // namespace actions_test
 }  // namespace ctb

@@ -16,7 +16,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace controllable_search_test {
 
 struct Problem {
   Domain d;
@@ -228,5 +230,5 @@ TEST(ControllableSearch, ACutHoldsItsPlanAndTheModelExcludesIt) {
   EXPECT_GT(b["objective"]["value"].get<double>(), 3) << "the 3 s plans all arrive together";
 }
 
-}  // namespace
+}  // namespace controllable_search_test
 }  // namespace ctb

@@ -17,7 +17,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace executive_test {
 
 namespace fs = std::filesystem;
 using network::Ticks;
@@ -260,5 +262,5 @@ TEST(Executive, BadReportsAreRefusedAtTheirPointerAndTheStoredFormRoundTrips) {
   EXPECT_TRUE(testing::HasError(diags, "/location", "either"));
 }
 
-}  // namespace
+}  // namespace executive_test
 }  // namespace ctb

@@ -7,7 +7,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace soundness_test {
 
 struct Problem {
   Domain d;
@@ -243,5 +245,5 @@ TEST(Soundness, TicksBeyondTheIntegerRangeAreALocatedError) {
   EXPECT_TRUE(testing::HasError(diags, "/time_resolution", "[0.000001, 1]")) << testing::AllErrors(diags);
 }
 
-}  // namespace
+}  // namespace soundness_test
 }  // namespace ctb

@@ -7,7 +7,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace state_plan_test {
 
 using testing::HasError;
 using testing::MustParse;
@@ -169,5 +171,5 @@ TEST(StatePlanToJson, RoundTrips) {
   EXPECT_EQ(StatePlanToJson(*sp2, testing::ShippedDomain("presentation")), again);
 }
 
-}  // namespace
+}  // namespace state_plan_test
 }  // namespace ctb

@@ -17,7 +17,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace symmetry_differential_test {
 
 constexpr int kMaxHorizon = 7;
 
@@ -311,5 +313,5 @@ int CheckRange(unsigned first, int count) {
 TEST(SymmetryDifferential, Seeds0To19) { EXPECT_GE(CheckRange(0, 20), 10); }
 TEST(SymmetryDifferential, Seeds20To39) { EXPECT_GE(CheckRange(20, 20), 10); }
 
-}  // namespace
+}  // namespace symmetry_differential_test
 }  // namespace ctb

@@ -9,7 +9,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace z3_core_test {
 
 using Kind = smt::CorePart::Kind;
 
@@ -122,5 +124,5 @@ TEST(Z3Core, TheTimeLimitGivesUnknown) {
   EXPECT_LT(r.elapsed_ms, 5000);
 }
 
-}  // namespace
+}  // namespace z3_core_test
 }  // namespace ctb

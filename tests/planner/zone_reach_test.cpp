@@ -13,7 +13,9 @@
 #include "test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace zone_reach_test {
 
 using analysis::Dbm;
 using analysis::FindZoneConflict;
@@ -191,5 +193,5 @@ TEST(ZoneSearch, ManyPartsStayWithinTheBudget) {
   EXPECT_LT(ms.count(), 1000);
 }
 
-}  // namespace
+}  // namespace zone_reach_test
 }  // namespace ctb

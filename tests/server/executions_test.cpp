@@ -13,7 +13,9 @@
 #include "harness.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace executions_test {
 
 using Clock = std::chrono::steady_clock;
 using testing::ServerProcess;
@@ -387,5 +389,5 @@ TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {
   EXPECT_EQ(missing->status, 404);
 }
 
-}  // namespace
+}  // namespace executions_test
 }  // namespace ctb

@@ -26,7 +26,9 @@
 #include "harness.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace storage_test {
 
 namespace fs = std::filesystem;
 using testing::MockLlmServer;
@@ -407,5 +409,5 @@ TEST(Storage, KillDashNineDuringABurstOfConcurrentWritesLosesNoAcknowledgedWrite
   fs::remove_all(data);
 }
 
-}  // namespace
+}  // namespace storage_test
 }  // namespace ctb

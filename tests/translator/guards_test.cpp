@@ -6,7 +6,9 @@
 #include "../planner/test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace guards_test {
 
 const Domain& Presentation() { return ctb::testing::ShippedDomain("presentation"); }
 
@@ -105,5 +107,5 @@ TEST(Dropped, ConstraintsAndGoalPartsLostInARepair) {
   EXPECT_TRUE(Dropped(before, before).empty());
 }
 
-}  // namespace
+}  // namespace guards_test
 }  // namespace ctb

@@ -11,7 +11,9 @@
 #include "translator/text.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace http_client_test {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -206,5 +208,5 @@ TEST(LlmConfig, MaxTokensFromTheEnvironment) {
   EXPECT_TRUE(std::holds_alternative<Error>(bad));
 }
 
-}  // namespace
+}  // namespace http_client_test
 }  // namespace ctb

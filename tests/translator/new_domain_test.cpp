@@ -9,7 +9,9 @@
 #include "translator/pipeline.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace new_domain_test {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -134,5 +136,5 @@ TEST(NewDomain, AShippedDomainKeepsItsOwnExamplesUnlabelled) {
   EXPECT_EQ(ex.find("robot1"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace new_domain_test
 }  // namespace ctb

@@ -6,7 +6,9 @@
 #include "../planner/test_util.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace normalize_answer_test {
 
 const Domain& Presentation() { return ctb::testing::ShippedDomain("presentation"); }
 
@@ -81,5 +83,5 @@ TEST(NormalizeAnswer, AnUnreadableBoundIsLeftForTheChecker) {
   EXPECT_TRUE(notes.empty());
 }
 
-}  // namespace
+}  // namespace normalize_answer_test
 }  // namespace ctb

@@ -13,7 +13,9 @@
 #include "translator/text.h"
 
 namespace ctb {
-namespace {
+// Named, not anonymous: the test executable's unity build puts files with same-named helpers
+// side by side.
+namespace quirks_test {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -146,5 +148,5 @@ TEST(TranslatorQuirks, EveryAnswerWhenTheEndpointRepeatsTheMistake) {
   for (const auto& c : Corpus()) RunCase(c, Scenario::kRepeats);
 }
 
-}  // namespace
+}  // namespace quirks_test
 }  // namespace ctb
