@@ -55,7 +55,8 @@ class Search {
  public:
   Search(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o)
       : d_(d), sp_(sp), o_(o), tps_(std::lround(1.0 / d.time_resolution)), ex_(d, sp, tps_),
-        rp_(d, sp, o.objective, tps_), t0_(Clock::now()) {
+        rp_(d, sp, o.objective, tps_), t0_(Clock::now()),
+        scripted_(o.scripts.size() == d.automata.size() && !o.history) {
     if (o.history) ex_.SetEarliest(o.history->now);
   }
 
@@ -74,7 +75,10 @@ class Search {
     }
     std::vector<Node> start = Start();
     if (start.empty()) return Finish(true);
-    for (Node& n : start) pool_.push_back(std::move(n));
+    for (Node& n : start) {
+      pool_.push_back(std::move(n));
+      if (scripted_) progress_.emplace_back(d_.automata.size(), 0);
+    }
     const int s = static_cast<int>(pool_.size()) - 1;
     seen_[ex_.Key(pool_[s])] = ValueOf(pool_[s]);
     if (pool_[s].done) {
@@ -88,7 +92,7 @@ class Search {
       if (stop_) return Finish(false);
       Entry e = open_.top();
       open_.pop();
-      if (best_ && !(ValueOf(pool_[e.node]) < *best_)) continue;  // cannot improve
+      if (!Improves(ValueOf(pool_[e.node]))) continue;  // cannot improve
       if (e.rank == kFull) {
         Expand(e.node, false);
         continue;
@@ -165,13 +169,17 @@ class Search {
     ++r_.generated;
     if (!child || child->event > o_.max_events) return;
     child->parent = parent;
-    if (best_ && !(ValueOf(*child) < *best_)) return;
+    if (!Improves(ValueOf(*child))) return;
+    std::vector<int> progress;
+    if (scripted_ && !Follows(parent, *child, progress)) return;
     auto key = ex_.Key(*child);
+    key.insert(key.end(), progress.begin(), progress.end());
     const Value v = ValueOf(*child);
     auto it = seen_.find(key);
     if (it != seen_.end() && !(v < it->second)) return;
     seen_[std::move(key)] = v;
     pool_.push_back(std::move(*child));
+    if (scripted_) progress_.push_back(std::move(progress));
     const int idx = static_cast<int>(pool_.size()) - 1;
     if (pool_[idx].done) {
       Offer(idx);
@@ -188,7 +196,15 @@ class Search {
   void Expand(int idx, bool preferred) {
     const Node n = pool_[idx];  // a copy: pool_ grows below
     const StageView v = ex_.View(n);
-    const std::vector<Candidate> cands = ex_.Candidates(n, v);
+    std::vector<Candidate> cands = OnScript(idx, ex_.Candidates(n, v));
+    // Scripted automata go as soon as they can, all together: their own timings would make a
+    // plateau of equal estimates that the few free automata's search is lost in.
+    if (scripted_) {
+      std::vector<Candidate> held = TakeHeld(cands);
+      std::vector<const Candidate*> all;
+      for (const Candidate& c : held) all.push_back(&c);
+      if (preferred && !all.empty()) Add(idx, Macro(n, v, all, 1), kMacro);
+    }
     const std::vector<long> targets = ex_.Targets(n);
     const auto& helpful = helpful_[idx];
     auto is_helpful = [&](const Candidate& c) {
@@ -234,7 +250,7 @@ class Search {
   // all of them (one per automaton) fire together, that is the macro at once: a team of 1,000
   // robots otherwise paid 1,000 applications of growing sets (quadratic) at every node.
   std::optional<Node> Macro(const Node& n, const StageView& v,
-                            const std::vector<const Candidate*>& mine) {
+                            const std::vector<const Candidate*>& mine, int least = 2) {
     long at = search::kInfinity;
     for (const Candidate* c : mine) at = std::min(at, c->earliest);
     std::vector<std::pair<int, int>> chosen, given;
@@ -262,7 +278,7 @@ class Search {
         take(c);
         ++count;
       }
-      if (count >= 2)
+      if (count >= least)
         if (auto all = ex_.Apply(n, v, chosen, at, given)) return all;
       chosen.clear();
       given.clear();
@@ -280,8 +296,56 @@ class Search {
         given.resize(given.size() - c->commands.size());
       }
     }
-    if (picked < 2) return std::nullopt;
+    if (picked < least) return std::nullopt;
     return ex_.Apply(n, v, chosen, at, given);
+  }
+
+  // Strictly better than the best plan so far and than FirstPlanOptions::better_than.
+  bool Improves(const Value& v) const {
+    if (best_ && !(v < *best_)) return false;
+    return !o_.better_than || v < *o_.better_than;
+  }
+
+  // Scripts (FirstPlanOptions::scripts): whether the child's transitions are each its scripted
+  // automaton's next one; `progress` is then how far every script has gone.
+  bool Follows(int parent, const Node& child, std::vector<int>& progress) const {
+    progress = progress_[parent];
+    for (auto [a, ti] : child.fired) {
+      const auto& script = o_.scripts[a];
+      if (!script) continue;
+      if (progress[a] >= static_cast<int>(script->size()) || (*script)[progress[a]] != ti)
+        return false;
+      ++progress[a];
+    }
+    return true;
+  }
+
+  // The candidates whose every scripted member is its automaton's next transition.
+  std::vector<Candidate> OnScript(int idx, std::vector<Candidate> cands) const {
+    if (!scripted_) return cands;
+    const std::vector<int>& at = progress_[idx];
+    auto off = [&](const Candidate& c) {
+      for (auto [a, ti] : c.Members()) {
+        const auto& script = o_.scripts[a];
+        if (script && (at[a] >= static_cast<int>(script->size()) || (*script)[at[a]] != ti))
+          return true;
+      }
+      return false;
+    };
+    cands.erase(std::remove_if(cands.begin(), cands.end(), off), cands.end());
+    return cands;
+  }
+
+  // Scripts: removes from `cands` and returns those whose members are all scripted.
+  std::vector<Candidate> TakeHeld(std::vector<Candidate>& cands) const {
+    std::vector<Candidate> held, rest;
+    for (Candidate& c : cands) {
+      bool all = true;
+      for (auto [a, ti] : c.Members()) all = all && o_.scripts[a].has_value();
+      (all ? held : rest).push_back(std::move(c));
+    }
+    cands = std::move(rest);
+    return held;
   }
 
   Trajectory Build(int idx) const {
@@ -318,7 +382,7 @@ class Search {
   void Offer(int idx) {
     const Node& n = pool_[idx];
     const Value v = ValueOf(n);
-    if (best_ && !(v < *best_)) return;
+    if (!Improves(v)) return;
     Trajectory t = Build(idx);
     if (!VerifyTrajectory(t, d_, sp_, tps_).empty()) {
       ++r_.rejected;
@@ -353,7 +417,9 @@ class Search {
   Expander ex_;
   RelaxedPlan rp_;
   Clock::time_point t0_;
+  const bool scripted_;
   std::vector<Node> pool_;
+  std::vector<std::vector<int>> progress_;  // scripted: per node, how far each script has gone
   std::unordered_map<int, std::vector<std::pair<int, int>>> helpful_;
   std::unordered_map<int, double> h_;
   std::unordered_set<int> deferred_;  // nodes whose helpful singles wait for the second turn

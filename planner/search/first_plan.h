@@ -33,6 +33,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "planner/model/domain.h"
 #include "planner/model/state_plan.h"
@@ -57,6 +59,14 @@ struct FirstPlanOptions {
   // Replanning (planner/replan): the run begins with this history; null: from the initial state.
   // The cost and makespan of a plan are the whole run's (the history's cost included).
   std::shared_ptr<const History> history;
+  // Large-neighbourhood search (issue 29 item 3, planner/search/neighbourhood.h): when not empty,
+  // one entry per automaton, the transitions it must take in this order (nullopt: free to take
+  // any). A run in which a scripted automaton takes another transition is not generated; a plan
+  // may reach the goal before a script ends. Ignored with a history.
+  std::vector<std::optional<std::vector<int>>> scripts;
+  // Only plans strictly better than this value are returned ((cost, 0), (makespan, 0) or
+  // (cost, makespan) by the objective).
+  std::optional<std::pair<long, long>> better_than;
 };
 
 struct FirstPlanResult {
