@@ -199,6 +199,19 @@ long Expander::DueTime(const Node& n, const StageView& v) const {
   return due;
 }
 
+std::vector<long> Expander::DueTimes(const Node& n, const StageView& v) const {
+  std::vector<long> out;
+  for (std::size_t a = 0; a < v.enabled.size(); ++a)
+    for (int ti : v.enabled[a]) {
+      const Transition& tr = d_.automata[a].transitions[ti];
+      const long due = n.entry[a] + Ticks(tr.duration.lo);
+      if (!tr.commanded && !tr.controllable && due > n.time) out.push_back(due);
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 std::vector<long> Expander::Targets(const Node& n) const {
   std::vector<long> out;
   const Monitors& m = n.mon;

@@ -91,6 +91,8 @@ class Expander {
   std::vector<Candidate> Candidates(const Node& n, const StageView& v) const;
   // The next time an automatic transition is due with no command given; kInfinity when none is.
   long DueTime(const Node& n, const StageView& v) const;
+  // The times (after the node's) at which automatic transitions enabled now are due.
+  std::vector<long> DueTimes(const Node& n, const StageView& v) const;
   // The times (after the node's) at which an active episode or temporal constraint reaches its
   // lower bound.
   std::vector<long> Targets(const Node& n) const;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <queue>
 #include <unordered_map>
 #include <unordered_set>
@@ -200,12 +201,21 @@ class Search {
     // Scripted automata go as soon as they can, all together: their own timings would make a
     // plateau of equal estimates that the few free automata's search is lost in.
     if (scripted_) {
-      std::vector<Candidate> held = TakeHeld(cands);
+      std::vector<Candidate> held = TakeHeld(idx, cands);
       std::vector<const Candidate*> all;
       for (const Candidate& c : held) all.push_back(&c);
       if (preferred && !all.empty()) Add(idx, Macro(n, v, all, 1), kMacro);
     }
-    const std::vector<long> targets = ex_.Targets(n);
+    std::vector<long> targets = ex_.Targets(n);
+    // In a round of the neighbourhood search, the free automata also aim at the times the others'
+    // automatic transitions are due (a device started its lead before another's warm-up ends
+    // takes its turn without a gap).
+    if (scripted_) {
+      const std::vector<long> due = ex_.DueTimes(n, v);
+      targets.insert(targets.end(), due.begin(), due.end());
+      std::sort(targets.begin(), targets.end());
+      targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+    }
     const auto& helpful = helpful_[idx];
     auto is_helpful = [&](const Candidate& c) {
       for (const auto& m : c.Members())
@@ -336,8 +346,9 @@ class Search {
     return cands;
   }
 
-  // Scripts: removes from `cands` and returns those whose members are all scripted.
-  std::vector<Candidate> TakeHeld(std::vector<Candidate>& cands) const {
+  // Scripts: removes from `cands` and returns those whose members are all scripted, in the order
+  // of their ranks (FirstPlanOptions::script_ranks) when given.
+  std::vector<Candidate> TakeHeld(int idx, std::vector<Candidate>& cands) const {
     std::vector<Candidate> held, rest;
     for (Candidate& c : cands) {
       bool all = true;
@@ -345,6 +356,18 @@ class Search {
       (all ? held : rest).push_back(std::move(c));
     }
     cands = std::move(rest);
+    if (o_.script_ranks.size() == o_.scripts.size()) {
+      const std::vector<int>& at = progress_[idx];
+      auto rank = [&](const Candidate& c) {
+        int r = std::numeric_limits<int>::max();
+        for (auto [a, ti] : c.Members())
+          if (at[a] < static_cast<int>(o_.script_ranks[a].size()))
+            r = std::min(r, o_.script_ranks[a][at[a]]);
+        return r;
+      };
+      std::stable_sort(held.begin(), held.end(),
+                       [&](const Candidate& x, const Candidate& y) { return rank(x) < rank(y); });
+    }
     return held;
   }
 

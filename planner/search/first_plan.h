@@ -64,6 +64,9 @@ struct FirstPlanOptions {
   // any). A run in which a scripted automaton takes another transition is not generated; a plan
   // may reach the goal before a script ends. Ignored with a history.
   std::vector<std::optional<std::vector<int>>> scripts;
+  // Optional, parallel to scripts: a rank per scripted transition (the plan's event of it). Held
+  // automata that cannot all fire at once go in this order (the plan's order of turns).
+  std::vector<std::vector<int>> script_ranks;
   // Only plans strictly better than this value are returned ((cost, 0), (makespan, 0) or
   // (cost, makespan) by the objective).
   std::optional<std::pair<long, long>> better_than;

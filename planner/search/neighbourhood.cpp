@@ -14,6 +14,9 @@ using Value = std::pair<long, long>;
 
 // Pairs are tried among the automata whose last transition comes latest: at most this many.
 constexpr std::size_t kPairPool = 12;
+// Then triples among the first this many (the last rounds: a third automaton set free where two
+// could not reorder their turns).
+constexpr std::size_t kTriplePool = 6;
 // A round's share of the budget: at least this, else the budget over this many rounds.
 constexpr long kMinRoundMs = 10;
 constexpr long kRoundShare = 24;
@@ -38,8 +41,35 @@ std::vector<int> ByLastMove(const Trajectory& plan, std::size_t automata) {
   return order;
 }
 
-// A round: the scripts it holds automata to (nullopt: free).
-using Scripts = std::vector<std::optional<std::vector<int>>>;
+// A round: the scripts it holds automata to (nullopt: free), and the plan's event of each
+// scripted transition (the order in which held automata take turns, FirstPlanOptions).
+struct Round {
+  std::vector<std::optional<std::vector<int>>> scripts;
+  std::vector<std::vector<int>> ranks;
+};
+
+// Each automaton's transitions in the plan and the events they fire at.
+struct Taken {
+  std::vector<std::vector<int>> transitions, events;
+};
+
+Taken TakenIn(const Trajectory& plan, std::size_t automata) {
+  std::vector<FiredTransition> fired = plan.fired;
+  std::stable_sort(fired.begin(), fired.end(),
+                   [](const auto& x, const auto& y) { return x.event < y.event; });
+  Taken t;
+  t.transitions.resize(automata);
+  t.events.resize(automata);
+  for (const auto& f : fired) {
+    t.transitions[f.automaton].push_back(f.transition);
+    t.events[f.automaton].push_back(f.event);
+  }
+  return t;
+}
+
+Round Held(const Taken& t) {
+  return {{t.transitions.begin(), t.transitions.end()}, t.events};
+}
 
 // The same transition in automaton b as transition ti of automaton a (same locations and
 // command, by name); -1 when b has none.
@@ -59,90 +89,94 @@ int SameIn(const Domain& d, int a, int ti, int b) {
   return -1;
 }
 
-// Automaton a's transitions from..to of `script`, written as automaton b's; nullopt when b lacks one.
-std::optional<std::vector<int>> Mapped(const Domain& d, int a, const std::vector<int>& script,
-                                       std::size_t from, std::size_t to, int b) {
-  std::vector<int> out;
+// Steps from..to of automaton a's route appended to `out`, written as automaton b's (with their
+// ranks); false when b lacks one of the transitions.
+bool Append(const Domain& d, const Taken& t, int a, std::size_t from, std::size_t to, int b,
+            std::vector<int>& out, std::vector<int>& ranks) {
   for (std::size_t i = from; i < to; ++i) {
-    const int k = a == b ? script[i] : SameIn(d, a, script[i], b);
-    if (k < 0) return std::nullopt;
+    const int k = a == b ? t.transitions[a][i] : SameIn(d, a, t.transitions[a][i], b);
+    if (k < 0) return false;
     out.push_back(k);
+    ranks.push_back(t.events[a][i]);
   }
-  return out;
+  return true;
 }
 
-// The rounds that re-time a plan whose automata a and b trade the starts of their routes at a
-// location both pass through (one opens the door the other waited at; with both starts, their
-// whole routes): every automaton held to its script.
-void Splices(const Domain& d, const Trajectory& plan, const std::vector<std::vector<int>>& taken,
-             int a, int b, std::vector<Scripts>& out) {
+// The round in which automaton a takes b's first j steps then its own from step i, and b takes
+// a's first i then its own from j (i = j = the route's length: the whole routes traded).
+std::optional<Round> Spliced(const Domain& d, const Taken& t, int a, int b, std::size_t i,
+                             std::size_t j) {
+  Round r = Held(t);
+  std::vector<int> ra, rb, ka, kb;
+  const std::size_t na = t.transitions[a].size(), nb = t.transitions[b].size();
+  const bool whole = i == na && j == nb;
+  if (!Append(d, t, b, 0, j, a, ra, ka) || !Append(d, t, a, 0, i, b, rb, kb)) return std::nullopt;
+  if (!whole && (!Append(d, t, a, i, na, a, ra, ka) || !Append(d, t, b, j, nb, b, rb, kb)))
+    return std::nullopt;
+  if (ra == t.transitions[a] && rb == t.transitions[b]) return std::nullopt;
+  r.scripts[a] = std::move(ra);
+  r.scripts[b] = std::move(rb);
+  r.ranks[a] = std::move(ka);
+  r.ranks[b] = std::move(kb);
+  return r;
+}
+
+// The rounds that re-time a plan whose automata a and b trade their whole routes, or the starts
+// of their routes at a location both pass through (one opens the door the other waited at):
+// every automaton held to its script.
+void Splices(const Domain& d, const Trajectory& plan, const Taken& t, int a, int b,
+             std::vector<Round>& out) {
   if (d.automata[a].locations[plan.locations[a][0]] != d.automata[b].locations[plan.locations[b][0]])
     return;
-  // The location before each step of a script, and the last.
+  // The location before each step of a route, and the last.
   auto visits = [&](int x) {
     std::vector<std::string> v = {d.automata[x].locations[plan.locations[x][0]]};
-    for (int ti : taken[x]) v.push_back(d.automata[x].locations[d.automata[x].transitions[ti].to]);
+    for (int ti : t.transitions[x])
+      v.push_back(d.automata[x].locations[d.automata[x].transitions[ti].to]);
     return v;
   };
   const std::vector<std::string> va = visits(a), vb = visits(b);
-  // The whole routes traded.
-  auto whole_a = Mapped(d, b, taken[b], 0, taken[b].size(), a);
-  auto whole_b = Mapped(d, a, taken[a], 0, taken[a].size(), b);
-  if (whole_a && whole_b && (*whole_a != taken[a] || *whole_b != taken[b])) {
-    Scripts round(taken.begin(), taken.end());
-    round[a] = std::move(*whole_a);
-    round[b] = std::move(*whole_b);
-    out.push_back(std::move(round));
-  }
+  if (auto r = Spliced(d, t, a, b, va.size() - 1, vb.size() - 1)) out.push_back(std::move(*r));
   for (std::size_t i = 0; i < va.size(); ++i)
     for (std::size_t j = 0; j < vb.size(); ++j) {
-      if (va[i] != vb[j] || (i == 0 && j == 0)) continue;
-      auto head_a = Mapped(d, b, taken[b], 0, j, a), tail_a = Mapped(d, a, taken[a], i, va.size() - 1, a);
-      auto head_b = Mapped(d, a, taken[a], 0, i, b), tail_b = Mapped(d, b, taken[b], j, vb.size() - 1, b);
-      if (!head_a || !head_b) continue;
-      Scripts round(taken.begin(), taken.end());
-      head_a->insert(head_a->end(), tail_a->begin(), tail_a->end());
-      head_b->insert(head_b->end(), tail_b->begin(), tail_b->end());
-      if (*head_a == taken[a] && *head_b == taken[b]) continue;
-      round[a] = std::move(*head_a);
-      round[b] = std::move(*head_b);
-      out.push_back(std::move(round));
+      if (va[i] != vb[j] || (i == 0 && j == 0) || (i + 1 == va.size() && j + 1 == vb.size()))
+        continue;
+      if (auto r = Spliced(d, t, a, b, i, j)) out.push_back(std::move(*r));
     }
 }
 
 // The rounds on a plan, in order: re-timing (every automaton held), the splices of every pair,
 // then by the order of their last moves each automaton set free alone followed by its pairs
-// with those after it (two automata that swap tasks). Pairs among the first kPairPool only.
-std::vector<Scripts> Rounds(const Domain& d, const Trajectory& plan) {
+// with those after it (two automata that swap tasks), then triples. Pairs among the first
+// kPairPool only, triples among the first kTriplePool.
+std::vector<Round> Rounds(const Domain& d, const Trajectory& plan) {
   const std::size_t na = d.automata.size();
-  const std::vector<std::vector<int>> taken = TransitionsTaken(plan, na);
-  const Scripts held(taken.begin(), taken.end());
+  const Taken taken = TakenIn(plan, na);
   const std::vector<int> order = ByLastMove(plan, na);
   const std::size_t pool = std::min(order.size(), kPairPool);
-  std::vector<Scripts> out = {held};
+  std::vector<Round> out = {Held(taken)};
   for (std::size_t i = 0; i < pool; ++i)
     for (std::size_t j = i + 1; j < pool; ++j) Splices(d, plan, taken, order[i], order[j], out);
   auto freeing = [&](std::vector<int> which) {
-    Scripts round = held;
-    for (int a : which) round[a].reset();
+    Round round = Held(taken);
+    for (int a : which) round.scripts[a].reset();
     out.push_back(std::move(round));
   };
   for (std::size_t i = 0; i < order.size(); ++i) {
     freeing({order[i]});
     for (std::size_t j = i + 1; i < pool && j < pool; ++j) freeing({order[i], order[j]});
   }
+  const std::size_t triples = std::min(order.size(), kTriplePool);
+  for (std::size_t i = 0; i < triples; ++i)
+    for (std::size_t j = i + 1; j < triples; ++j)
+      for (std::size_t k = j + 1; k < triples; ++k) freeing({order[i], order[j], order[k]});
   return out;
 }
 
 }  // namespace
 
 std::vector<std::vector<int>> TransitionsTaken(const Trajectory& plan, std::size_t automata) {
-  std::vector<FiredTransition> fired = plan.fired;
-  std::stable_sort(fired.begin(), fired.end(),
-                   [](const auto& x, const auto& y) { return x.event < y.event; });
-  std::vector<std::vector<int>> out(automata);
-  for (const auto& f : fired) out[f.automaton].push_back(f.transition);
-  return out;
+  return TakenIn(plan, automata).transitions;
 }
 
 NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp,
@@ -153,10 +187,9 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
   };
   NeighbourhoodResult r;
-  const std::size_t na = d.automata.size();
   Trajectory current = plan;
   Value value = ValueOf(o.objective, cost, makespan);
-  std::vector<Scripts> rounds = Rounds(d, current);
+  std::vector<Round> rounds = Rounds(d, current);
   bool done = plan.history != nullptr || (o.good_enough && o.good_enough(cost, makespan));
   // Re-timing keeps every transition, and so the cost: it is skipped under `cost`.
   std::size_t next = o.objective == Objective::kCost ? 1 : 0;
@@ -170,7 +203,8 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
     fo.cancel = o.cancel;
     fo.good_enough = o.good_enough;
     fo.better_than = value;
-    fo.scripts = rounds[next];
+    fo.scripts = rounds[next].scripts;
+    fo.script_ranks = rounds[next].ranks;
     FirstPlanResult round = FindFirstPlan(d, sp, fo);
     ++r.rounds;
     if (!round.best || !(ValueOf(o.objective, round.cost, round.makespan) < value)) {

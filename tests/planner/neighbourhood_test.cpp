@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
 #include <variant>
 
 #include "planner/search/first_plan.h"
@@ -12,6 +14,7 @@
 #include "planner/verify/verify.h"
 #include "exact_engine.h"
 #include "random_teams.h"
+#include "turns_problem.h"
 #include "test_util.h"
 
 namespace ctb {
@@ -146,6 +149,50 @@ TEST(Neighbourhoods, TradingRoutesGivesTheFarTaskToTheCheapCourier) {
   const auto taken = TransitionsTaken(*r.best, 2);
   EXPECT_EQ(taken[0], std::vector<int>{1}) << "the cheap courier goes far";
   EXPECT_EQ(taken[1], std::vector<int>{0});
+}
+
+// Five devices that warm up one at a time (bench/turns.py's `staggered` 5), from the plan that runs
+// them one after another: the rounds reorder their turns to the optimum, the best order of one
+// machine found here by trying every order. Re-timing alone keeps the plan's order; reaching the
+// optimum takes devices set free that start their lead before another's warm-up ends.
+TEST(Neighbourhoods, DevicesTakeTheirTurnsInTheBestOrder) {
+  std::vector<testing::Device> devs;
+  for (int k = 0; k < 5; ++k) devs.push_back({(3 * k) % 5, 3 + (7 * k) % 5, (2 * k + 1) % 6});
+  std::vector<int> order(devs.size());
+  std::iota(order.begin(), order.end(), 0);
+  long optimum = -1;
+  do {
+    long free = 0, end = 0;
+    for (int j : order) {
+      const long start = std::max<long>(devs[j].prep, free);
+      free = start + devs[j].warm;
+      end = std::max(end, free + devs[j].tail);
+    }
+    optimum = optimum < 0 ? end : std::min(optimum, end);
+  } while (std::next_permutation(order.begin(), order.end()));
+  ASSERT_EQ(optimum, 26);
+  testing::TurnProblem p = testing::MakeTurns(devs);
+  std::vector<std::pair<long, std::vector<std::pair<int, int>>>> events;
+  long t = 0;
+  for (int k = 0; k < 5; ++k) {
+    const testing::Device& v = devs[k];
+    int ti = 0;
+    events.push_back({t, {{k, ti++}}});
+    if (v.prep > 0) events.push_back({t += v.prep, {{k, ti++}}});
+    events.push_back({t += v.warm, {{k, ti++}}});
+    if (v.tail > 0) events.push_back({t += v.tail, {{k, ti++}}});
+  }
+  const Trajectory one_by_one = MakeRun(p.domain, std::vector<int>(5, 0), events);
+  ASSERT_TRUE(VerifyTrajectory(one_by_one, p.domain, p.plan, 1).empty())
+      << VerifyTrajectory(one_by_one, p.domain, p.plan, 1)[0];
+  NeighbourhoodOptions o;
+  o.objective = Objective::kMakespan;
+  o.time_limit_ms = 20000;
+  o.good_enough = [&](long, long makespan) { return makespan <= optimum; };
+  NeighbourhoodResult r = ImproveByNeighbourhoods(p.domain, p.plan, one_by_one, 0, t, o);
+  ASSERT_TRUE(r.best);
+  EXPECT_EQ(r.makespan, optimum) << t << " at the start";
+  EXPECT_TRUE(VerifyTrajectory(*r.best, p.domain, p.plan, 1).empty());
 }
 
 // Random teams (the assignment-cost generator): from the engine's first plan, every plan the
