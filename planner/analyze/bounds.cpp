@@ -114,6 +114,9 @@ namespace {
 // enters lead nowhere (their automaton stays where it is: a self-loop keeps every index and adds
 // no way anywhere). Every plan of that cost is a plan of that model, since it never takes those
 // transitions.
+// How many times the least-cost rule cuts the model (each cut computes the bounds again).
+constexpr int kMaxLeastCostCuts = 3;
+
 long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions& o,
                        const std::vector<std::vector<int>>& visits,
                        const std::vector<long>& own_cost, const std::vector<int>& final_loc,
@@ -125,9 +128,14 @@ long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions&
   for (auto [a, l] : reach.costly)
     for (Transition& t : cut.automata[a].transitions)
       if (t.to == l) t.to = t.from;
+  // The cut model's bounds, with the rule again on it (its arrival times, its own dear locations)
+  // at the same budget: a plan of that cost never enters a cut location, so it is a plan of the
+  // cut model.
   BoundOptions inner = o;
-  inner.least_cost_makespan = false;
   inner.assignment_cost = false;  // only the makespan is read
+  inner.least_cost_makespan = o.least_cost_cuts < kMaxLeastCostCuts;
+  inner.least_cost_budget = budget;
+  inner.least_cost_cuts = o.least_cost_cuts + 1;
   return std::max(reach.bottleneck, LowerBounds(cut, sp, inner).makespan_ticks);
 }
 
@@ -220,8 +228,9 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
   b.cost = std::max(b.cost, others + std::max(helpers, w.helper_cost));
   if (o.least_cost_makespan)
     b.makespan_ticks = std::max(
-        b.makespan_ticks, LeastCostMakespan(d, sp, o, visits, own_cost, final_loc,
-                                            earliest ? &*earliest : nullptr, b.cost));
+        b.makespan_ticks,
+        LeastCostMakespan(d, sp, o, visits, own_cost, final_loc, earliest ? &*earliest : nullptr,
+                          o.least_cost_budget >= 0 ? o.least_cost_budget : b.cost));
   return b;
 }
 

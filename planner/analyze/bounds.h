@@ -45,6 +45,11 @@ struct BoundOptions {
   // that cost enters (analyze/assignment_cost.h, ReachWithinBudget). Not a bound on every plan's
   // makespan: set it for that objective only (solve.h, CostBoundsFor).
   bool least_cost_makespan = false;
+  // Internal to that rule: the cost budget it reads (-1: the cost bound of this call) and how
+  // many times the model has been cut for it (the cut model's arrival times give a later
+  // bottleneck, and may make more locations too dear: the rule runs again on it, a few times).
+  long least_cost_budget = -1;
+  int least_cost_cuts = 0;
 };
 ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOptions& o = {});
 
