@@ -283,7 +283,8 @@ Runner AddSolve(CLI::App& app) {
   sub->add_flag("--no-reuse", o->no_reuse, "Solve identical parts again (benchmarks)");
   sub->add_flag("--no-redundant", o->no_redundant, "Leave out redundant constraints (benchmarks)");
   sub->add_option("--first-plan-ms", o->first_plan_ms,
-                  "Budget of the first-plan engine (-1 automatic, 0 off)")
+                  "Budget of the first-plan engine, and again of the neighbourhood search on "
+                  "its plan (-1 automatic, 0 off)")
       ->check(CLI::Range(-1L, 3600L * 1000));
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   auto* pddl = sub->add_option("--pddl", o->pddl_files,

@@ -109,14 +109,14 @@ ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ti
 
 namespace {
 
+// How many times the least-cost rule cuts the model (each cut computes the bounds again).
+constexpr int kMaxLeastCostCuts = 3;
+
 // The makespan bound of plans that cost at most `budget`: the cheap enough assignment that ends
 // soonest, and the bounds of the same model in which the transitions into locations no such plan
 // enters lead nowhere (their automaton stays where it is: a self-loop keeps every index and adds
 // no way anywhere). Every plan of that cost is a plan of that model, since it never takes those
 // transitions.
-// How many times the least-cost rule cuts the model (each cut computes the bounds again).
-constexpr int kMaxLeastCostCuts = 3;
-
 long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions& o,
                        const std::vector<std::vector<int>>& visits,
                        const std::vector<long>& own_cost, const std::vector<int>& final_loc,
@@ -133,7 +133,7 @@ long LeastCostMakespan(const Domain& d, const StatePlan& sp, const BoundOptions&
   // cut model.
   BoundOptions inner = o;
   inner.assignment_cost = false;  // only the makespan is read
-  inner.least_cost_makespan = o.least_cost_cuts < kMaxLeastCostCuts;
+  inner.least_cost_makespan = o.least_cost_cuts + 1 < kMaxLeastCostCuts;
   inner.least_cost_budget = budget;
   inner.least_cost_cuts = o.least_cost_cuts + 1;
   return std::max(reach.bottleneck, LowerBounds(cut, sp, inner).makespan_ticks);
@@ -230,7 +230,7 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
     b.makespan_ticks = std::max(
         b.makespan_ticks,
         LeastCostMakespan(d, sp, o, visits, own_cost, final_loc, earliest ? &*earliest : nullptr,
-                          o.least_cost_budget >= 0 ? o.least_cost_budget : b.cost));
+                          std::max(b.cost, o.least_cost_budget)));
   return b;
 }
 

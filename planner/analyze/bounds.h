@@ -45,9 +45,10 @@ struct BoundOptions {
   // that cost enters (analyze/assignment_cost.h, ReachWithinBudget). Not a bound on every plan's
   // makespan: set it for that objective only (solve.h, CostBoundsFor).
   bool least_cost_makespan = false;
-  // Internal to that rule: the cost budget it reads (-1: the cost bound of this call) and how
-  // many times the model has been cut for it (the cut model's arrival times give a later
-  // bottleneck, and may make more locations too dear: the rule runs again on it, a few times).
+  // Internal to that rule: the cost budget it reads (never below the cost bound of this call:
+  // a cut at a lower budget would remove plans of the least cost) and how many times the model
+  // has been cut for it (the cut model's arrival times give a later bottleneck, and may make more
+  // locations too dear: the rule runs again on it, at most three cuts deep).
   long least_cost_budget = -1;
   int least_cost_cuts = 0;
 };

@@ -188,25 +188,27 @@ std::vector<Candidate> Expander::Candidates(const Node& n, const StageView& v) c
   return out;
 }
 
-long Expander::DueTime(const Node& n, const StageView& v) const {
-  long due = kInfinity;
+// When each automatic transition enabled at the node is due (its entry plus its lower duration).
+template <typename F>
+void Expander::ForEachDue(const Node& n, const StageView& v, F&& f) const {
   for (std::size_t a = 0; a < v.enabled.size(); ++a)
     for (int ti : v.enabled[a]) {
       const Transition& tr = d_.automata[a].transitions[ti];
-      if (!tr.commanded && !tr.controllable)
-        due = std::min(due, std::max({n.time, earliest_, n.entry[a] + Ticks(tr.duration.lo)}));
+      if (!tr.commanded && !tr.controllable) f(n.entry[a] + Ticks(tr.duration.lo));
     }
+}
+
+long Expander::DueTime(const Node& n, const StageView& v) const {
+  long due = kInfinity;
+  ForEachDue(n, v, [&](long t) { due = std::min(due, std::max({n.time, earliest_, t})); });
   return due;
 }
 
 std::vector<long> Expander::DueTimes(const Node& n, const StageView& v) const {
   std::vector<long> out;
-  for (std::size_t a = 0; a < v.enabled.size(); ++a)
-    for (int ti : v.enabled[a]) {
-      const Transition& tr = d_.automata[a].transitions[ti];
-      const long due = n.entry[a] + Ticks(tr.duration.lo);
-      if (!tr.commanded && !tr.controllable && due > n.time) out.push_back(due);
-    }
+  ForEachDue(n, v, [&](long t) {
+    if (t > n.time) out.push_back(t);
+  });
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

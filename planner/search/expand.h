@@ -117,6 +117,8 @@ class Expander {
   const std::vector<int>& Outgoing(int a, int loc) const { return out_[a][loc]; }
 
  private:
+  template <typename F>
+  void ForEachDue(const Node& n, const StageView& v, F&& f) const;
   bool GuardHolds(const Transition& tr, const std::vector<int>& loc,
                   const std::vector<int>& cmd) const;
   std::vector<int> Enabled(int a, const std::vector<int>& loc, const std::vector<int>& cmd) const;

@@ -81,7 +81,9 @@ class Search {
       if (scripted_) progress_.emplace_back(d_.automata.size(), 0);
     }
     const int s = static_cast<int>(pool_.size()) - 1;
-    seen_[ex_.Key(pool_[s])] = ValueOf(pool_[s]);
+    auto root_key = ex_.Key(pool_[s]);
+    if (scripted_) root_key.insert(root_key.end(), progress_[s].begin(), progress_[s].end());
+    seen_[std::move(root_key)] = ValueOf(pool_[s]);
     if (pool_[s].done) {
       Offer(s);
       return Finish(true);
@@ -90,6 +92,7 @@ class Search {
     while (!open_.empty()) {
       ++r_.expanded;
       if (OutOfTime()) return Finish(false);
+      if (o_.max_expanded > 0 && r_.expanded > o_.max_expanded) return Finish(false);
       if (stop_) return Finish(false);
       Entry e = open_.top();
       open_.pop();
@@ -202,14 +205,12 @@ class Search {
     // plateau of equal estimates that the few free automata's search is lost in.
     if (scripted_) {
       std::vector<Candidate> held = TakeHeld(idx, cands);
-      std::vector<const Candidate*> all;
-      for (const Candidate& c : held) all.push_back(&c);
-      if (preferred && !all.empty()) Add(idx, Macro(n, v, all, 1), kMacro);
+      if (preferred) HeldMacro(idx, n, v, held);
     }
     std::vector<long> targets = ex_.Targets(n);
-    // In a round of the neighbourhood search, the free automata also aim at the times the others'
-    // automatic transitions are due (a device started its lead before another's warm-up ends
-    // takes its turn without a gap).
+    // In a round of the neighbourhood search, the free automata also aim at the times automatic
+    // transitions are due (a device started its lead before another's warm-up ends takes its turn
+    // without a gap).
     if (scripted_) {
       const std::vector<long> due = ex_.DueTimes(n, v);
       targets.insert(targets.end(), due.begin(), due.end());
@@ -260,9 +261,10 @@ class Search {
   // all of them (one per automaton) fire together, that is the macro at once: a team of 1,000
   // robots otherwise paid 1,000 applications of growing sets (quadratic) at every node.
   std::optional<Node> Macro(const Node& n, const StageView& v,
-                            const std::vector<const Candidate*>& mine, int least = 2) {
-    long at = search::kInfinity;
-    for (const Candidate* c : mine) at = std::min(at, c->earliest);
+                            const std::vector<const Candidate*>& mine, int least = 2,
+                            long at = search::kInfinity) {
+    if (at == search::kInfinity)
+      for (const Candidate* c : mine) at = std::min(at, c->earliest);
     std::vector<std::pair<int, int>> chosen, given;
     std::vector<char> taken(d_.automata.size(), 0);
     // A candidate due at `at` whose automaton and commanded partners no chosen one holds.
@@ -321,13 +323,17 @@ class Search {
   bool Follows(int parent, const Node& child, std::vector<int>& progress) const {
     progress = progress_[parent];
     for (auto [a, ti] : child.fired) {
-      const auto& script = o_.scripts[a];
-      if (!script) continue;
-      if (progress[a] >= static_cast<int>(script->size()) || (*script)[progress[a]] != ti)
-        return false;
+      if (!o_.scripts[a]) continue;
+      if (!Next(progress, a, ti)) return false;
       ++progress[a];
     }
     return true;
+  }
+
+  // Whether transition ti is scripted automaton a's next, its script gone as far as `at` says.
+  bool Next(const std::vector<int>& at, int a, int ti) const {
+    const std::vector<int>& script = *o_.scripts[a];
+    return at[a] < static_cast<int>(script.size()) && script[at[a]] == ti;
   }
 
   // The candidates whose every scripted member is its automaton's next transition.
@@ -335,15 +341,31 @@ class Search {
     if (!scripted_) return cands;
     const std::vector<int>& at = progress_[idx];
     auto off = [&](const Candidate& c) {
-      for (auto [a, ti] : c.Members()) {
-        const auto& script = o_.scripts[a];
-        if (script && (at[a] >= static_cast<int>(script->size()) || (*script)[at[a]] != ti))
-          return true;
-      }
+      for (auto [a, ti] : c.Members())
+        if (o_.scripts[a] && !Next(at, a, ti)) return true;
       return false;
     };
     cands.erase(std::remove_if(cands.begin(), cands.end(), off), cands.end());
     return cands;
+  }
+
+  // Scripts: the held automata's transitions that can fire at the earliest time any of them can,
+  // together; when the rules refuse every group there (one would break the maintenance
+  // constraint), at the next such time, so that a held automaton may wait for another's.
+  void HeldMacro(int idx, const Node& n, const StageView& v, const std::vector<Candidate>& held) {
+    std::vector<const Candidate*> all;
+    std::vector<long> times;
+    for (const Candidate& c : held) {
+      all.push_back(&c);
+      times.push_back(c.earliest);
+    }
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end()), times.end());
+    for (long at : times)
+      if (auto node = Macro(n, v, all, 1, at)) {
+        Add(idx, std::move(node), kMacro);
+        return;
+      }
   }
 
   // Scripts: removes from `cands` and returns those whose members are all scripted, in the order

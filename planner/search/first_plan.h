@@ -50,6 +50,9 @@ struct FirstPlanOptions {
   // With good_enough set, until time_limit_ms (a plan that meets the bound spares a proof).
   long improve_min_ms = 20;
   int max_events = 32;       // plans with more events are not returned
+  // The search stops after expanding this many states (0: no limit): a limit that does not
+  // depend on the machine's speed.
+  long max_expanded = 0;
   const std::atomic<bool>* cancel = nullptr;
   // Stop at the first verified plan for which this returns true (one that meets a proven lower
   // bound: no plan is better). Optional.
@@ -62,7 +65,8 @@ struct FirstPlanOptions {
   // Large-neighbourhood search (issue 29 item 3, planner/search/neighbourhood.h): when not empty,
   // one entry per automaton, the transitions it must take in this order (nullopt: free to take
   // any). A run in which a scripted automaton takes another transition is not generated; a plan
-  // may reach the goal before a script ends. Ignored with a history.
+  // may reach the goal before a script ends. Ignored with a history, or when its size is not the
+  // number of automata.
   std::vector<std::optional<std::vector<int>>> scripts;
   // Optional, parallel to scripts: a rank per scripted transition (the plan's event of it). Held
   // automata that cannot all fire at once go in this order (the plan's order of turns).

@@ -103,15 +103,15 @@ bool Append(const Domain& d, const Taken& t, int a, std::size_t from, std::size_
 }
 
 // The round in which automaton a takes b's first j steps then its own from step i, and b takes
-// a's first i then its own from j (i = j = the route's length: the whole routes traded).
+// a's first i then its own from j (i and j the routes' lengths: the whole routes traded); nullopt
+// when one lacks the other's transitions or nothing changes.
 std::optional<Round> Spliced(const Domain& d, const Taken& t, int a, int b, std::size_t i,
                              std::size_t j) {
   Round r = Held(t);
   std::vector<int> ra, rb, ka, kb;
   const std::size_t na = t.transitions[a].size(), nb = t.transitions[b].size();
-  const bool whole = i == na && j == nb;
-  if (!Append(d, t, b, 0, j, a, ra, ka) || !Append(d, t, a, 0, i, b, rb, kb)) return std::nullopt;
-  if (!whole && (!Append(d, t, a, i, na, a, ra, ka) || !Append(d, t, b, j, nb, b, rb, kb)))
+  if (!Append(d, t, b, 0, j, a, ra, ka) || !Append(d, t, a, 0, i, b, rb, kb) ||
+      !Append(d, t, a, i, na, a, ra, ka) || !Append(d, t, b, j, nb, b, rb, kb))
     return std::nullopt;
   if (ra == t.transitions[a] && rb == t.transitions[b]) return std::nullopt;
   r.scripts[a] = std::move(ra);
@@ -121,11 +121,18 @@ std::optional<Round> Spliced(const Domain& d, const Taken& t, int a, int b, std:
   return r;
 }
 
-// The rounds that re-time a plan whose automata a and b trade their whole routes, or the starts
-// of their routes at a location both pass through (one opens the door the other waited at):
-// every automaton held to its script.
+// A round described: the automata set free (re-timing when none), or a splice of two (a, b at
+// steps i, j). Rounds are built when they run: a team of a thousand has a thousand.
+struct RoundSpec {
+  std::vector<int> free;
+  int a = -1, b = -1;
+  std::size_t i = 0, j = 0;
+};
+
+// The splices of automata a and b: their whole routes traded, and the starts of their routes
+// traded at every location both pass through (one opens the door the other waited at).
 void Splices(const Domain& d, const Trajectory& plan, const Taken& t, int a, int b,
-             std::vector<Round>& out) {
+             std::vector<RoundSpec>& out) {
   if (d.automata[a].locations[plan.locations[a][0]] != d.automata[b].locations[plan.locations[b][0]])
     return;
   // The location before each step of a route, and the last.
@@ -136,41 +143,43 @@ void Splices(const Domain& d, const Trajectory& plan, const Taken& t, int a, int
     return v;
   };
   const std::vector<std::string> va = visits(a), vb = visits(b);
-  if (auto r = Spliced(d, t, a, b, va.size() - 1, vb.size() - 1)) out.push_back(std::move(*r));
-  for (std::size_t i = 0; i < va.size(); ++i)
-    for (std::size_t j = 0; j < vb.size(); ++j) {
-      if (va[i] != vb[j] || (i == 0 && j == 0) || (i + 1 == va.size() && j + 1 == vb.size()))
-        continue;
-      if (auto r = Spliced(d, t, a, b, i, j)) out.push_back(std::move(*r));
-    }
+  const std::size_t la = va.size() - 1, lb = vb.size() - 1;
+  out.push_back({{}, a, b, la, lb});
+  for (std::size_t i = 0; i <= la; ++i)
+    for (std::size_t j = 0; j <= lb; ++j)
+      if (va[i] == vb[j] && !(i == 0 && j == 0) && !(i == la && j == lb))
+        out.push_back({{}, a, b, i, j});
 }
 
-// The rounds on a plan, in order: re-timing (every automaton held), the splices of every pair,
+// The rounds on a plan, in order: re-timing (every automaton held), the splices of the pairs,
 // then by the order of their last moves each automaton set free alone followed by its pairs
-// with those after it (two automata that swap tasks), then triples. Pairs among the first
-// kPairPool only, triples among the first kTriplePool.
-std::vector<Round> Rounds(const Domain& d, const Trajectory& plan) {
-  const std::size_t na = d.automata.size();
-  const Taken taken = TakenIn(plan, na);
-  const std::vector<int> order = ByLastMove(plan, na);
+// with those after it (two automata that swap tasks), then triples. Splices and pairs among the
+// first kPairPool only, triples among the first kTriplePool.
+std::vector<RoundSpec> Rounds(const Domain& d, const Trajectory& plan, const Taken& taken) {
+  const std::vector<int> order = ByLastMove(plan, d.automata.size());
   const std::size_t pool = std::min(order.size(), kPairPool);
-  std::vector<Round> out = {Held(taken)};
+  std::vector<RoundSpec> out = {{}};
   for (std::size_t i = 0; i < pool; ++i)
     for (std::size_t j = i + 1; j < pool; ++j) Splices(d, plan, taken, order[i], order[j], out);
-  auto freeing = [&](std::vector<int> which) {
-    Round round = Held(taken);
-    for (int a : which) round.scripts[a].reset();
-    out.push_back(std::move(round));
-  };
   for (std::size_t i = 0; i < order.size(); ++i) {
-    freeing({order[i]});
-    for (std::size_t j = i + 1; i < pool && j < pool; ++j) freeing({order[i], order[j]});
+    out.push_back({{order[i]}});
+    if (i < pool)
+      for (std::size_t j = i + 1; j < pool; ++j) out.push_back({{order[i], order[j]}});
   }
   const std::size_t triples = std::min(order.size(), kTriplePool);
   for (std::size_t i = 0; i < triples; ++i)
     for (std::size_t j = i + 1; j < triples; ++j)
-      for (std::size_t k = j + 1; k < triples; ++k) freeing({order[i], order[j], order[k]});
+      for (std::size_t k = j + 1; k < triples; ++k)
+        out.push_back({{order[i], order[j], order[k]}});
   return out;
+}
+
+// The scripts of a round described; nullopt for a splice that changes nothing or cannot be made.
+std::optional<Round> Build(const Domain& d, const Taken& taken, const RoundSpec& spec) {
+  if (spec.a >= 0) return Spliced(d, taken, spec.a, spec.b, spec.i, spec.j);
+  Round round = Held(taken);
+  for (int a : spec.free) round.scripts[a].reset();
+  return round;
 }
 
 }  // namespace
@@ -187,42 +196,50 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count();
   };
   NeighbourhoodResult r;
+  if (plan.history || (o.good_enough && o.good_enough(cost, makespan))) return r;
   Trajectory current = plan;
   Value value = ValueOf(o.objective, cost, makespan);
-  std::vector<Round> rounds = Rounds(d, current);
-  bool done = plan.history != nullptr || (o.good_enough && o.good_enough(cost, makespan));
+  Taken taken = TakenIn(current, d.automata.size());
+  std::vector<RoundSpec> rounds = Rounds(d, current, taken);
   // Re-timing keeps every transition, and so the cost: it is skipped under `cost`.
   std::size_t next = o.objective == Objective::kCost ? 1 : 0;
-  while (!done && next < rounds.size()) {
+  while (next < rounds.size()) {
     const long left = o.time_limit_ms - elapsed();
     if (left <= 0 || (o.cancel && o.cancel->load())) break;
+    std::optional<Round> round = Build(d, taken, rounds[next]);
+    if (!round) {
+      ++next;
+      continue;
+    }
     FirstPlanOptions fo;
     fo.objective = o.objective;
     fo.time_limit_ms = std::min(left, std::max(kMinRoundMs, o.time_limit_ms / kRoundShare));
+    fo.max_expanded = o.round_expansions;
     fo.max_events = o.max_events;
     fo.cancel = o.cancel;
     fo.good_enough = o.good_enough;
     fo.better_than = value;
-    fo.scripts = rounds[next].scripts;
-    fo.script_ranks = rounds[next].ranks;
-    FirstPlanResult round = FindFirstPlan(d, sp, fo);
+    fo.scripts = std::move(round->scripts);
+    fo.script_ranks = std::move(round->ranks);
+    FirstPlanResult found = FindFirstPlan(d, sp, fo);
     ++r.rounds;
-    if (!round.best || !(ValueOf(o.objective, round.cost, round.makespan) < value)) {
+    if (!found.best || !(ValueOf(o.objective, found.cost, found.makespan) < value)) {
       ++next;
       continue;
     }
-    // A better plan: the rounds start again from it, re-timing first (after a re-timing, with the
-    // next round).
-    const bool retimed = next == 0;
+    // A better plan: the rounds start again from it, with re-timing (after a re-timing, with the
+    // round after it: the same transitions re-timed again change nothing).
+    const bool retimed = rounds[next].free.empty() && rounds[next].a < 0;
     ++r.improved;
-    current = std::move(*round.best);
-    value = ValueOf(o.objective, round.cost, round.makespan);
+    current = std::move(*found.best);
+    value = ValueOf(o.objective, found.cost, found.makespan);
     r.best = current;
-    r.cost = round.cost;
-    r.makespan = round.makespan;
-    if (o.on_plan) o.on_plan(current, round.cost, round.makespan);
-    done = o.good_enough && o.good_enough(round.cost, round.makespan);
-    rounds = Rounds(d, current);
+    r.cost = found.cost;
+    r.makespan = found.makespan;
+    if (o.on_plan) o.on_plan(current, found.cost, found.makespan);
+    if (o.good_enough && o.good_enough(found.cost, found.makespan)) break;
+    taken = TakenIn(current, d.automata.size());
+    rounds = Rounds(d, current, taken);
     next = retimed || o.objective == Objective::kCost ? 1 : 0;
   }
   r.elapsed_ms = elapsed();

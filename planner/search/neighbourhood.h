@@ -2,10 +2,11 @@
 // with most automata held to the transitions they take in the plan (FirstPlanOptions::scripts)
 // and a few set free. Holding every automaton re-times the plan (the same transitions, fired as
 // early as the rules allow: a team the plan sent out one after another goes out together);
-// freeing one automaton or two lets them take other routes or swap their tasks. Each round keeps
-// only strictly better plans, which the verifier has passed; an improvement restarts the rounds
-// from the new plan. Like the engine it proves nothing: a plan is optimal only when it meets a
-// lower bound (analyze/bounds.h).
+// splices trade two automata's routes, or the starts of their routes, with every automaton held;
+// freeing one, two or three automata lets them take other routes, swap tasks or take their turns
+// in another order. Each round keeps only strictly better plans, which the verifier has passed;
+// an improvement restarts the rounds from the new plan. Like the engine it proves nothing: a plan
+// is optimal only when it meets a lower bound (analyze/bounds.h).
 //
 // Thread-safe: calls share nothing. Never throws.
 #pragma once
@@ -22,7 +23,10 @@ namespace ctb {
 
 struct NeighbourhoodOptions {
   Objective objective = Objective::kMakespan;
-  long time_limit_ms = 500;  // all rounds
+  long time_limit_ms = 500;  // all rounds (each gets a share: a 24th, at least 10 ms)
+  // States a round may expand (FirstPlanOptions::max_expanded; 0: no limit): with a budget long
+  // enough, the rounds' results no longer depend on the machine's speed (tests).
+  long round_expansions = 0;
   int max_events = 32;
   const std::atomic<bool>* cancel = nullptr;
   // Stop at the first plan for which this returns true (it meets a proven lower bound).

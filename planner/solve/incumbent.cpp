@@ -21,6 +21,7 @@ namespace {
 
 // Large-neighbourhood search (planner/search/neighbourhood.h) on the engine's plan that does not
 // meet the bound, for a second budget as long as the first; `accept` verifies and keeps a plan.
+// `plan` is a copy: `accept` replaces the plan it came from while the search runs.
 void ImproveIncumbent(const Domain& d, const StatePlan& sp, const SolveOptions& o,
                       Objective objective, int max_events, const ObjectiveBounds& bounds,
                       long budget, const std::function<void(const Trajectory&, long, long)>& accept,
@@ -80,7 +81,8 @@ std::optional<Plan> FirstPlanIncumbent(const Domain& d, const StatePlan& sp, con
   }
   stats["first_plan"] = info;
   if (best && !o.history && !MeetsLowerBounds(bounds, objective, best->cost, best->makespan))
-    ImproveIncumbent(d, sp, o, objective, max_events, bounds, budget, fo.on_plan, *best, stats);
+    ImproveIncumbent(d, sp, o, objective, max_events, bounds,
+                     std::min(budget, o.time_limit_ms - MsSince(t0)), fo.on_plan, *best, stats);
   return best;
 }
 

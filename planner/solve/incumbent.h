@@ -13,9 +13,11 @@ namespace ctb::solve {
 // The budget: SolveOptions::first_plan_ms, or min(500 ms, a tenth of the time limit) for -1.
 long FirstPlanBudgetMs(const SolveOptions& o);
 
-// Runs the engine for its budget; returns its best verified plan with at most max_events events
-// and records what it did in stats["first_plan"] (ms, expanded, generated, found, declined). `found_ms` is
-// the time (since t0) the returned plan was found.
+// Runs the engine for its budget, then, when its plan does not meet the bounds and there is no
+// history, the neighbourhood search on it for as long again (within the time limit); returns the
+// best verified plan with at most max_events events and records what they did in
+// stats["first_plan"] (ms, expanded, generated, found, declined) and stats["neighbourhoods"] (ms,
+// rounds, improved). `found_ms` is the time (since t0) the returned plan was found.
 // `bounds` (LowerBounds(d, sp), or with a history SolveOptions::bounds, valid given it) stops
 // the search at a plan that meets them. With o.history the engine starts from the history and
 // its plans carry it (the verifier checks them as it checks the exact engines').

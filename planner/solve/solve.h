@@ -85,8 +85,9 @@ struct SolveOptions {
   // Static checks that prove infeasibility without search (planner/analyze) run first.
   bool static_analysis = true;
   // The first-plan engine (planner/search) runs next for at most this long: its verified plan is
-  // streamed first and handed to the exact engines as the incumbent. -1: min(500 ms, a tenth of
-  // time_limit_ms); 0: not run.
+  // streamed first and handed to the exact engines as the incumbent. When that plan does not meet
+  // the lower bound, the neighbourhood search (planner/search/neighbourhood.h) improves it for as
+  // long again (within the time limit). -1: min(500 ms, a tenth of time_limit_ms); 0: neither runs.
   long first_plan_ms = -1;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;

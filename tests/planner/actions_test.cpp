@@ -11,9 +11,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace actions_test {
+namespace {
 
 using testing::MustParse;
 using testing::ShippedDomain;
@@ -277,5 +278,6 @@ TEST(ActionEvents, SharedEventsMayNameAnAction) {
   EXPECT_EQ(s.makespan, kToDoor1 + kViaOpenDoor1);
 }
 
+}  // namespace
 }  // namespace actions_test
 }  // namespace ctb

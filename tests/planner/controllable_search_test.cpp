@@ -16,9 +16,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace controllable_search_test {
+namespace {
 
 struct Problem {
   Domain d;
@@ -230,5 +231,6 @@ TEST(ControllableSearch, ACutHoldsItsPlanAndTheModelExcludesIt) {
   EXPECT_GT(b["objective"]["value"].get<double>(), 3) << "the 3 s plans all arrive together";
 }
 
+}  // namespace
 }  // namespace controllable_search_test
 }  // namespace ctb

@@ -17,9 +17,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace executive_test {
+namespace {
 
 namespace fs = std::filesystem;
 using network::Ticks;
@@ -262,5 +263,6 @@ TEST(Executive, BadReportsAreRefusedAtTheirPointerAndTheStoredFormRoundTrips) {
   EXPECT_TRUE(testing::HasError(diags, "/location", "either"));
 }
 
+}  // namespace
 }  // namespace executive_test
 }  // namespace ctb

@@ -142,7 +142,7 @@ TEST(LeastCostMakespan, IsTheOptimumOfASmallCostTeam) {
 TEST(LeastCostMakespan, TheCutModelIsReadAgain) {
   testing::TeamProblem p = testing::CostTeam(4, 3);
   BoundOptions once = kOn;
-  once.least_cost_cuts = 100;  // as deep as the rule goes: no cut model read again
+  once.least_cost_cuts = 100;  // past the rule's depth: one cut only, the model as read before
   const ObjectiveBounds again = LowerBounds(p.domain, p.plan, kOn);
   const ObjectiveBounds first = LowerBounds(p.domain, p.plan, once);
   EXPECT_EQ(again.cost, 37);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 #include <numeric>
 #include <variant>
 
@@ -47,6 +48,16 @@ Trajectory MakeRun(const Domain& d, const std::vector<int>& initial,
   return t;
 }
 
+// Options whose rounds end by their state count, not by time (60 s is never reached here): the
+// results do not depend on the machine's speed.
+NeighbourhoodOptions Options(Objective objective) {
+  NeighbourhoodOptions o;
+  o.objective = objective;
+  o.time_limit_ms = 60000;
+  o.round_expansions = 20000;
+  return o;
+}
+
 struct Problem {
   Domain d;
   StatePlan sp;
@@ -80,9 +91,7 @@ TEST(Neighbourhoods, ReTimingSendsATeamOutTogether) {
   const Trajectory sequential = MakeRun(p.d, {0, 0}, {{0, {{0, 0}}}, {5, {{0, 1}}}, {5, {{1, 0}}}, {10, {{1, 1}}}});
   ASSERT_TRUE(VerifyTrajectory(sequential, p.d, p.sp, 1).empty())
       << VerifyTrajectory(sequential, p.d, p.sp, 1)[0];
-  NeighbourhoodOptions o;
-  o.objective = Objective::kMakespan;
-  o.time_limit_ms = 5000;
+  NeighbourhoodOptions o = Options(Objective::kMakespan);
   int offered = 0;
   o.on_plan = [&](const Trajectory& t, long, long makespan) {
     ++offered;
@@ -107,10 +116,7 @@ TEST(Neighbourhoods, NothingBetterLeavesThePlan) {
   const Trajectory together = MakeRun(p.d, {0, 0}, {{0, {{0, 0}, {1, 0}}}, {5, {{0, 1}, {1, 1}}}});
   ASSERT_TRUE(VerifyTrajectory(together, p.d, p.sp, 1).empty());
   for (Objective obj : {Objective::kCost, Objective::kMakespan, Objective::kCostThenMakespan}) {
-    NeighbourhoodOptions o;
-    o.objective = obj;
-    o.time_limit_ms = 2000;
-    NeighbourhoodResult r = ImproveByNeighbourhoods(p.d, p.sp, together, 4, 5, o);
+    NeighbourhoodResult r = ImproveByNeighbourhoods(p.d, p.sp, together, 4, 5, Options(obj));
     EXPECT_FALSE(r.best) << ObjectiveName(obj);
     EXPECT_EQ(r.improved, 0);
     EXPECT_GE(r.rounds, 1);
@@ -137,9 +143,7 @@ TEST(Neighbourhoods, TradingRoutesGivesTheFarTaskToTheCheapCourier) {
   const Trajectory dear = MakeRun(p.d, {0, 0}, {{0, {{0, 0}, {1, 1}}}});
   ASSERT_TRUE(VerifyTrajectory(dear, p.d, p.sp, 1).empty()) << VerifyTrajectory(dear, p.d, p.sp, 1)[0];
   ASSERT_EQ(TrajectoryCost(dear, p.d), 16);
-  NeighbourhoodOptions o;
-  o.objective = Objective::kCost;
-  o.time_limit_ms = 5000;
+  NeighbourhoodOptions o = Options(Objective::kCost);
   o.good_enough = [](long cost, long) { return cost <= 8; };
   NeighbourhoodResult r = ImproveByNeighbourhoods(p.d, p.sp, dear, 16, 0, o);
   ASSERT_TRUE(r.best);
@@ -185,9 +189,7 @@ TEST(Neighbourhoods, DevicesTakeTheirTurnsInTheBestOrder) {
   const Trajectory one_by_one = MakeRun(p.domain, std::vector<int>(5, 0), events);
   ASSERT_TRUE(VerifyTrajectory(one_by_one, p.domain, p.plan, 1).empty())
       << VerifyTrajectory(one_by_one, p.domain, p.plan, 1)[0];
-  NeighbourhoodOptions o;
-  o.objective = Objective::kMakespan;
-  o.time_limit_ms = 20000;
+  NeighbourhoodOptions o = Options(Objective::kMakespan);
   o.good_enough = [&](long, long makespan) { return makespan <= optimum; };
   NeighbourhoodResult r = ImproveByNeighbourhoods(p.domain, p.plan, one_by_one, 0, t, o);
   ASSERT_TRUE(r.best);
@@ -209,11 +211,14 @@ TEST(Neighbourhoods, RandomTeamsOnlyVerifiedPlansNeverBelowTheOptimum) {
     auto sp = LoadStatePlan(rp.state_plan, *d, diags);
     ASSERT_TRUE(sp) << testing::AllErrors(diags) << rp.Describe();
     for (Objective obj : {Objective::kCost, Objective::kMakespan}) {
-      // The start: the engine's first plan for the other objective (often poor for this one).
+      // The start: the engine's first plan for the other objective (often poor for this one),
+      // taken as it comes (the first verified plan stops the engine: no time in it). Every plan
+      // has at most the exact engine's 10 events.
       FirstPlanOptions fo;
       fo.objective = obj == Objective::kCost ? Objective::kMakespan : Objective::kCost;
-      fo.time_limit_ms = 200;
-      fo.improve_min_ms = 0;
+      fo.time_limit_ms = 60000;
+      fo.max_events = 10;
+      fo.good_enough = [](long, long) { return true; };
       FirstPlanResult first = FindFirstPlan(*d, *sp, fo);
       if (!first.best) continue;
       auto exact = SolveDocument(*d, *sp, testing::ExactEngineAlone(obj));
@@ -225,9 +230,8 @@ TEST(Neighbourhoods, RandomTeamsOnlyVerifiedPlansNeverBelowTheOptimum) {
                                : std::lround(x["objective"]["value"].get<double>() / d->time_resolution);
       const long cost = TrajectoryCost(*first.best, *d), makespan = first.best->events.back();
       long last = obj == Objective::kCost ? cost : makespan;
-      NeighbourhoodOptions o;
-      o.objective = obj;
-      o.time_limit_ms = 300;
+      NeighbourhoodOptions o = Options(obj);
+      o.max_events = 10;
       o.good_enough = [&](long c, long m) { return (obj == Objective::kCost ? c : m) <= optimum; };
       o.on_plan = [&](const Trajectory& t, long c, long m) {
         const auto problems = VerifyTrajectory(t, *d, *sp, std::lround(1.0 / d->time_resolution));

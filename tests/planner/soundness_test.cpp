@@ -7,9 +7,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace soundness_test {
+namespace {
 
 struct Problem {
   Domain d;
@@ -245,5 +246,6 @@ TEST(Soundness, TicksBeyondTheIntegerRangeAreALocatedError) {
   EXPECT_TRUE(testing::HasError(diags, "/time_resolution", "[0.000001, 1]")) << testing::AllErrors(diags);
 }
 
+}  // namespace
 }  // namespace soundness_test
 }  // namespace ctb

@@ -7,9 +7,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace state_plan_test {
+namespace {
 
 using testing::HasError;
 using testing::MustParse;
@@ -171,5 +172,6 @@ TEST(StatePlanToJson, RoundTrips) {
   EXPECT_EQ(StatePlanToJson(*sp2, testing::ShippedDomain("presentation")), again);
 }
 
+}  // namespace
 }  // namespace state_plan_test
 }  // namespace ctb

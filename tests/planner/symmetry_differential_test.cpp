@@ -17,9 +17,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace symmetry_differential_test {
+namespace {
 
 constexpr int kMaxHorizon = 7;
 
@@ -313,5 +314,6 @@ int CheckRange(unsigned first, int count) {
 TEST(SymmetryDifferential, Seeds0To19) { EXPECT_GE(CheckRange(0, 20), 10); }
 TEST(SymmetryDifferential, Seeds20To39) { EXPECT_GE(CheckRange(20, 20), 10); }
 
+}  // namespace
 }  // namespace symmetry_differential_test
 }  // namespace ctb

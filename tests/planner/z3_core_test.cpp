@@ -9,9 +9,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace z3_core_test {
+namespace {
 
 using Kind = smt::CorePart::Kind;
 
@@ -124,5 +125,6 @@ TEST(Z3Core, TheTimeLimitGivesUnknown) {
   EXPECT_LT(r.elapsed_ms, 5000);
 }
 
+}  // namespace
 }  // namespace z3_core_test
 }  // namespace ctb

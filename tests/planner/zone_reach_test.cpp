@@ -13,9 +13,10 @@
 #include "test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace zone_reach_test {
+namespace {
 
 using analysis::Dbm;
 using analysis::FindZoneConflict;
@@ -193,5 +194,6 @@ TEST(ZoneSearch, ManyPartsStayWithinTheBudget) {
   EXPECT_LT(ms.count(), 1000);
 }
 
+}  // namespace
 }  // namespace zone_reach_test
 }  // namespace ctb

@@ -13,9 +13,10 @@
 #include "harness.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace executions_test {
+namespace {
 
 using Clock = std::chrono::steady_clock;
 using testing::ServerProcess;
@@ -389,5 +390,6 @@ TEST(Executions, BadRequestsAreRefusedAtTheirPointer) {
   EXPECT_EQ(missing->status, 404);
 }
 
+}  // namespace
 }  // namespace executions_test
 }  // namespace ctb

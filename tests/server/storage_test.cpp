@@ -26,9 +26,10 @@
 #include "harness.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace storage_test {
+namespace {
 
 namespace fs = std::filesystem;
 using testing::MockLlmServer;
@@ -409,5 +410,6 @@ TEST(Storage, KillDashNineDuringABurstOfConcurrentWritesLosesNoAcknowledgedWrite
   fs::remove_all(data);
 }
 
+}  // namespace
 }  // namespace storage_test
 }  // namespace ctb

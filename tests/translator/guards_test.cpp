@@ -6,9 +6,10 @@
 #include "../planner/test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace guards_test {
+namespace {
 
 const Domain& Presentation() { return ctb::testing::ShippedDomain("presentation"); }
 
@@ -107,5 +108,6 @@ TEST(Dropped, ConstraintsAndGoalPartsLostInARepair) {
   EXPECT_TRUE(Dropped(before, before).empty());
 }
 
+}  // namespace
 }  // namespace guards_test
 }  // namespace ctb

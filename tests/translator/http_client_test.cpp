@@ -11,9 +11,10 @@
 #include "translator/text.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace http_client_test {
+namespace {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -208,5 +209,6 @@ TEST(LlmConfig, MaxTokensFromTheEnvironment) {
   EXPECT_TRUE(std::holds_alternative<Error>(bad));
 }
 
+}  // namespace
 }  // namespace http_client_test
 }  // namespace ctb

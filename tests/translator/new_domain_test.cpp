@@ -9,9 +9,10 @@
 #include "translator/pipeline.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace new_domain_test {
+namespace {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -136,5 +137,6 @@ TEST(NewDomain, AShippedDomainKeepsItsOwnExamplesUnlabelled) {
   EXPECT_EQ(ex.find("robot1"), std::string::npos);
 }
 
+}  // namespace
 }  // namespace new_domain_test
 }  // namespace ctb

@@ -6,9 +6,10 @@
 #include "../planner/test_util.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace normalize_answer_test {
+namespace {
 
 const Domain& Presentation() { return ctb::testing::ShippedDomain("presentation"); }
 
@@ -83,5 +84,6 @@ TEST(NormalizeAnswer, AnUnreadableBoundIsLeftForTheChecker) {
   EXPECT_TRUE(notes.empty());
 }
 
+}  // namespace
 }  // namespace normalize_answer_test
 }  // namespace ctb

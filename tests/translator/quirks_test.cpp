@@ -13,9 +13,10 @@
 #include "translator/text.h"
 
 namespace ctb {
-// Named, not anonymous: the test executable's unity build puts files with same-named helpers
-// side by side.
+// A namespace of its own: the test executable's unity build puts files with same-named
+// helpers side by side.
 namespace quirks_test {
+namespace {
 
 using testing::MockLlmServer;
 using testing::MockReply;
@@ -148,5 +149,6 @@ TEST(TranslatorQuirks, EveryAnswerWhenTheEndpointRepeatsTheMistake) {
   for (const auto& c : Corpus()) RunCase(c, Scenario::kRepeats);
 }
 
+}  // namespace
 }  // namespace quirks_test
 }  // namespace ctb
