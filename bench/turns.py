@@ -11,7 +11,9 @@ the maintenance constraint excludes every pair of warm-ups. Families, each at ev
   - `same`: no prep, no tail, warm-ups of 3-7 s;
   - `staggered`: preps of 0-4 s and tails of 0-5 s as well;
   - `due`: `staggered`, and each device on within prep + warm + 2 s of its start command (a
-    temporal constraint, as in bench/families.py's `due`).
+    temporal constraint, as in bench/families.py's `due`);
+  - `pairs`: `staggered` devices of which at most two warm at once (every three excluded: two
+    machines; its optimum is the best list schedule of every order on two machines).
 The optimum is computed here independently: the best order of one machine (every permutation,
 each warm-up as early as its release and the previous one allow; its makespan the latest end plus
 tail), which a plan can always follow (a device waits off until its turn). Each row: status,
@@ -30,7 +32,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import solve_makespan  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FAMILIES = ("same", "staggered", "due")
+FAMILIES = ("same", "staggered", "due", "pairs")
 
 
 def devices(family, n):
@@ -65,8 +67,12 @@ def domain(devs):
 def state_plan(family, devs):
     n = len(devs)
     init = {f"dev{k}": "off" for k in range(1, n + 1)}
-    pairs = [f"not (dev{a}l[i]==warming /\\ dev{b}l[i]==warming)"
-             for a in range(1, n + 1) for b in range(a + 1, n + 1)]
+    if family == "pairs":
+        pairs = [f"not (dev{a}l[i]==warming /\\ dev{b}l[i]==warming /\\ dev{c}l[i]==warming)"
+                 for a in range(1, n + 1) for b in range(a + 1, n + 1) for c in range(b + 1, n + 1)]
+    else:
+        pairs = [f"not (dev{a}l[i]==warming /\\ dev{b}l[i]==warming)"
+                 for a in range(1, n + 1) for b in range(a + 1, n + 1)]
     goal = " /\\ ".join(f"dev{k}l[i+1]=={'ready' if t else 'on'}"
                         for k, (_, _, t) in enumerate(devs, start=1))
     temporal = {}
@@ -77,23 +83,27 @@ def state_plan(family, devs):
                 "accepting_event2_constraint": f"dev{k}l[i+1]==on",
                 "lower_bound": 0, "upper_bound": prep + warm + 2}
     sp = {"initial_state": init,
-          "end_state": {"maintenance_constraint": " /\\ ".join(pairs), "goal_constraint": goal},
+          "end_state": {"maintenance_constraint": " /\\ ".join(pairs) or "true",
+                        "goal_constraint": goal},
           "objective": "makespan"}
     if temporal:
         sp["constraints"] = {"temporal": temporal}
     return sp
 
 
-def optimum(devs):
-    """One machine: the best order, each warm-up as early as possible."""
+def optimum(devs, machines=1):
+    """The best order on this many machines, each warm-up as early as possible on the machine
+    free first (every schedule of identical machines is beaten or matched by such a list schedule
+    of some order)."""
     best = None
     for order in itertools.permutations(range(len(devs))):
-        free, end = 0, 0
+        free, end = [0] * machines, 0
         for j in order:
             prep, warm, tail = devs[j]
-            start = max(prep, free)
-            free = start + warm
-            end = max(end, free + tail)
+            m = min(range(machines), key=lambda k: free[k])
+            start = max(prep, free[m])
+            free[m] = start + warm
+            end = max(end, free[m] + tail)
         best = end if best is None else min(best, end)
     return best
 
@@ -137,7 +147,8 @@ def main():
                 dom, sp = os.path.join(tmp, "d.json"), os.path.join(tmp, "p.json")
                 json.dump(domain(devs), open(dom, "w"))
                 json.dump(state_plan(family, devs), open(sp, "w"))
-                r = {"family": family, "n": n, "devices": devs, "optimum": optimum(devs)}
+                r = {"family": family, "n": n, "devices": devs,
+                     "optimum": optimum(devs, 2 if family == "pairs" else 1)}
                 r.update(solve_makespan(a.bin, dom, sp, a.time_limit_ms))
                 print(json.dumps(r), flush=True)
                 rows.append(r)

@@ -19,7 +19,8 @@ using Node = std::pair<int, int>;  // (automaton, location)
 constexpr long kNeverTurn = EarliestTimes::kNever;
 constexpr std::size_t kMaxTurnNodes = 512;  // locations taken into account, at most
 constexpr std::size_t kMaxCliqueStarts = 64;
-constexpr std::size_t kMaxTailSplits = 128;  // jobs on a clique for which every tail Q is tried
+constexpr std::size_t kMaxTailSplits = 128;
+constexpr std::size_t kMaxPool = 10;  // jobs in a pool of at most k at once  // jobs on a clique for which every tail Q is tried
 
 long AddTurn(long a, long b) { return std::min(kNeverTurn, a + b); }
 
@@ -56,9 +57,58 @@ std::optional<std::pair<Node, Node>> Exclusion(const Expr& e) {
   return std::make_pair(a, b);
 }
 
+// The locations a conjunct keeps from being all occupied on one stage, when it has the form
+// `not (A1 /\ ... /\ Am)` or `not A1 \/ ... \/ not Am` with m >= 3 literals "automaton at
+// location" of distinct automata: at most m - 1 of them at once. Sorted.
+std::optional<std::vector<Node>> NotAll(const Expr& e) {
+  std::vector<const Expr*> lits;
+  bool want = true;
+  if (e.op == Expr::Op::kNot && e.kids[0].op == Expr::Op::kAnd) {
+    Flatten(e.kids[0], Expr::Op::kAnd, lits);
+  } else if (e.op == Expr::Op::kOr) {
+    Flatten(e, Expr::Op::kOr, lits);
+    want = false;
+  } else {
+    return std::nullopt;
+  }
+  if (lits.size() < 3) return std::nullopt;
+  std::vector<Node> out;
+  std::set<int> automata;
+  for (const Expr* x : lits) {
+    Node n;
+    bool there = false;
+    if (!StageLiteral(*x, n, there) || there != want || !automata.insert(n.first).second)
+      return std::nullopt;
+    out.push_back(n);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 struct Job {
   long r = 0, p = 0, q = 0;
 };
+
+// k machines (at most k of the locations at once): goal >= r + p + q of each job, and
+// goal >= R + ceil(sum p / k) + Q over any set of jobs released at R or later with tails of at
+// least Q (their work fits between R and goal - Q on k machines).
+long ParallelBound(std::vector<Job> jobs, long k) {
+  long best = 0;
+  for (const Job& j : jobs) best = std::max(best, AddTurn(AddTurn(j.r, j.p), j.q));
+  std::sort(jobs.begin(), jobs.end(), [](const Job& x, const Job& y) { return x.r > y.r; });
+  std::vector<long> tails = {0};
+  if (jobs.size() <= kMaxTailSplits)
+    for (const Job& j : jobs) tails.push_back(j.q);
+  for (long tail : tails) {
+    long sum = 0;
+    for (const Job& j : jobs) {
+      if (j.q < tail) continue;
+      sum = AddTurn(sum, j.p);
+      best = std::max(best, AddTurn(AddTurn(j.r, (sum + k - 1) / k), tail));
+    }
+  }
+  return best;
+}
 
 // goal >= min r + sum p + min q over any set of jobs; the best such set for each least tail Q is
 // a prefix of the jobs with q >= Q taken by release, latest first.
@@ -128,6 +178,13 @@ class Turns {
       const long b = MachineBound(on);
       if (b > out.makespan_ticks) out.makespan_ticks = b, out.jobs = static_cast<int>(on.size());
     }
+    for (const auto& [k, pool] : Pools()) {
+      std::vector<Job> on;
+      for (const Node& n : pool) on.push_back(jobs_.at(n));
+      ++out.machines;
+      const long b = ParallelBound(on, k);
+      if (b > out.makespan_ticks) out.makespan_ticks = b, out.jobs = static_cast<int>(on.size());
+    }
     return out;
   }
 
@@ -139,11 +196,56 @@ class Turns {
     std::vector<const Expr*> parts;
     Flatten(sp_.maintenance.expr, Expr::Op::kAnd, parts);
     for (const Expr* part : parts) {
+      if (auto all = NotAll(*part)) {
+        if (std::all_of(all->begin(), all->end(), [&](const Node& n) { return IsJob(n); }))
+          groups_[static_cast<long>(all->size()) - 1].insert(*all);
+        continue;
+      }
       auto ex = Exclusion(*part);
       if (!ex || !IsJob(ex->first) || !IsJob(ex->second)) continue;
       edges_.insert(*ex);
       edges_.insert({ex->second, ex->first});
     }
+  }
+
+  // Pools of jobs of which at most k run at once: sets in which every k + 1 jobs are a group
+  // the maintenance constraint excludes (`NotAll`), grown greedily from each group, longest jobs
+  // first, to at most kMaxPool jobs.
+  std::vector<std::pair<long, std::vector<Node>>> Pools() const {
+    std::vector<std::pair<long, std::vector<Node>>> out;
+    for (const auto& [k, groups] : groups_) {
+      std::set<Node> nodes;
+      for (const auto& g : groups) nodes.insert(g.begin(), g.end());
+      std::vector<Node> by_length(nodes.begin(), nodes.end());
+      std::sort(by_length.begin(), by_length.end(),
+                [&](const Node& x, const Node& y) { return jobs_.at(x).p > jobs_.at(y).p; });
+      std::size_t starts = 0;
+      for (const auto& g : groups) {
+        if (++starts > kMaxCliqueStarts) break;
+        std::vector<Node> pool = g;
+        for (const Node& n : by_length)
+          if (pool.size() < kMaxPool && std::find(pool.begin(), pool.end(), n) == pool.end() &&
+              Joins(pool, n, k, groups))
+            pool.push_back(n);
+        out.emplace_back(k, std::move(pool));
+      }
+    }
+    return out;
+  }
+
+  // Whether every k jobs of `pool` with n make an excluded group.
+  static bool Joins(const std::vector<Node>& pool, const Node& n, long k,
+                    const std::set<std::vector<Node>>& groups) {
+    std::vector<bool> pick(pool.size(), false);
+    std::fill(pick.begin(), pick.begin() + k, true);
+    do {
+      std::vector<Node> g = {n};
+      for (std::size_t i = 0; i < pool.size(); ++i)
+        if (pick[i]) g.push_back(pool[i]);
+      std::sort(g.begin(), g.end());
+      if (!groups.count(g)) return false;
+    } while (std::prev_permutation(pick.begin(), pick.end()));
+    return true;
   }
 
   bool IsJob(const Node& n) {
@@ -222,6 +324,7 @@ class Turns {
   std::map<Node, Job> jobs_;
   std::set<Node> not_jobs_;
   std::set<std::pair<Node, Node>> edges_;
+  std::map<long, std::set<std::vector<Node>>> groups_;  // k -> groups of k + 1 excluded at once
 };
 
 }  // namespace turn_taking

@@ -18,6 +18,12 @@
 // A visit is one stay, so with at most 8 jobs on a machine the bound is the exact optimum of the
 // machine without preemption instead: the best order, each job as early as its release and the
 // job before allow (every order is tried; an order's value is its latest end plus tail).
+// At most k at once (issue 29 item 1): a conjunct `not (A1 /\ ... /\ Am)` or
+// `not A1 \/ ... \/ not Am` (m >= 3 locations of distinct automata) keeps the m from being
+// occupied together: at most m - 1 of them at once. A pool of jobs in which every k + 1 form such
+// a group (k = m - 1) is k machines, and for all R and Q
+//   goal >= R + ceil(sum{p_j : r_j >= R, q_j >= Q} / k) + Q,   and goal >= r_j + p_j + q_j
+// (their work fits between R and goal - Q on k machines).
 // Counts time only; sound whatever the guards say, since it only drops constraints.
 #pragma once
 

@@ -17,7 +17,9 @@ struct Device {
   bool bypass = false;
 };
 
-enum class ExclusionForm { kNotBoth, kOrNot, kImplies, kNotAllThree };
+// kNotAllThree: no three consecutive devices warm at once; kAtMostTwo (`not (a /\ b /\ c)`) and
+// kAtMostTwoOr (`a != .. \/ b != .. \/ c != ..`): no three of all the devices warm at once.
+enum class ExclusionForm { kNotBoth, kOrNot, kImplies, kNotAllThree, kAtMostTwo, kAtMostTwoOr };
 
 struct TurnProblem {
   Domain domain;
@@ -64,6 +66,15 @@ inline std::string TurnMaintenance(std::size_t n, ExclusionForm form) {
   if (form == ExclusionForm::kNotAllThree) {
     for (std::size_t a = 0; a + 2 < n; ++a)
       add("not (" + Warming(a) + " /\\ " + Warming(a + 1) + " /\\ " + Warming(a + 2) + ")");
+    return m.empty() ? "true" : m;
+  }
+  if (form == ExclusionForm::kAtMostTwo || form == ExclusionForm::kAtMostTwoOr) {
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t b = a + 1; b < n; ++b)
+        for (std::size_t c = b + 1; c < n; ++c)
+          add(form == ExclusionForm::kAtMostTwo
+                  ? "not (" + Warming(a) + " /\\ " + Warming(b) + " /\\ " + Warming(c) + ")"
+                  : "(" + NotWarming(a) + " \\/ " + NotWarming(b) + " \\/ " + NotWarming(c) + ")");
     return m.empty() ? "true" : m;
   }
   for (std::size_t a = 0; a < n; ++a)

@@ -52,5 +52,42 @@ TEST(TurnsSolve, TheBoundNeverExceedsAnExactOptimum) {
   EXPECT_GE(bites, 2) << "the bound never rose above the others";
 }
 
+// At most two warm at once (every three excluded, planner/analyze/turns.h "At most k"): on small
+// random devices the two-machine bound never exceeds the exact engine's optimum, and the default
+// solve (first plan, neighbourhood rounds, bounds, Gecode) ends optimal at that value.
+TEST(TurnsSolve, AtMostTwoAtOnceNeverAboveAnExactOptimum) {
+  std::mt19937 rng(292);
+  int bites = 0;
+  for (int i = 0; i < 4; ++i) {
+    std::vector<Device> devs;
+    const int n = 3 + i % 2;
+    for (int k = 0; k < n; ++k)
+      devs.push_back({static_cast<int>(rng() % 3), 2 + static_cast<int>(rng() % 3),
+                      static_cast<int>(rng() % 2), false});
+    auto p = testing::MakeTurns(devs, testing::ExclusionForm::kAtMostTwo);
+    auto e = ComputeEarliestTimes(p.domain, p.plan);
+    const long bound = ComputeTurnBound(p.domain, p.plan, e ? &*e : nullptr).makespan_ticks;
+    const Json plan = testing::TurnPlanJson(devs, testing::ExclusionForm::kAtMostTwo);
+    auto exact = SolveDocument(p.domain, p.plan, testing::ExactEngineAlone(Objective::kMakespan, 16));
+    ASSERT_TRUE(std::holds_alternative<Json>(exact)) << std::get<Error>(exact).ToString();
+    const Json& x = std::get<Json>(exact);
+    ASSERT_EQ(x["status"], "optimal") << plan.dump();
+    const long optimum = std::lround(x["objective"]["value"].get<double>() / p.domain.time_resolution);
+    EXPECT_LE(bound, optimum) << "THE TWO-MACHINE BOUND IS ABOVE THE OPTIMUM, case " << i << ": "
+                              << plan.dump();
+    bites += bound > LowerBounds(p.domain, p.plan, BoundOptions{.turns = false}).makespan_ticks;
+
+    SolveOptions fast;
+    fast.objective = Objective::kMakespan;
+    fast.time_limit_ms = 120000;
+    fast.max_horizon = 16;
+    auto r = SolveDocument(p.domain, p.plan, fast);
+    ASSERT_TRUE(std::holds_alternative<Json>(r)) << std::get<Error>(r).ToString();
+    EXPECT_EQ(std::get<Json>(r)["status"], "optimal") << plan.dump();
+    EXPECT_EQ(std::get<Json>(r)["objective"]["value"], x["objective"]["value"]) << plan.dump();
+  }
+  EXPECT_GE(bites, 1) << "the two-machine bound never rose above the others";
+}
+
 }  // namespace
 }  // namespace ctb

@@ -64,14 +64,31 @@ TEST(Turns, TheThreeWrittenFormsAreRead) {
 }
 
 TEST(Turns, NothingWhereTheTurnsAreNotForced) {
-  const std::vector<Device> devs = {{0, 2, 0, false}, {0, 3, 0, false}, {0, 4, 0, false}};
-  // At most two warm at once: no pair is excluded.
-  EXPECT_EQ(Bound(MakeTurns(devs, ExclusionForm::kNotAllThree)), 0);
   // A device that may skip its warm-up takes no turn: only the other two count.
   auto p = MakeTurns({{0, 2, 0, false}, {0, 3, 0, false}, {0, 4, 0, true}});
   EXPECT_EQ(Bound(p), Ticks(p.domain, 5));
   // With one device left in turn, there is no machine.
   EXPECT_EQ(Bound(MakeTurns({{0, 2, 0, true}, {0, 3, 0, false}})), 0);
+}
+
+// At most two warm at once (no three together): no pair is excluded, but the three are two
+// machines. Warm-ups of 2, 3 and 4 s: 9 s of work on two machines, at least 5 (4.5 rounded up to
+// the tick), which is the optimum (2 then 3 beside 4).
+TEST(Turns, AtMostTwoAtOnceAreTwoMachines) {
+  const std::vector<Device> devs = {{0, 2, 0, false}, {0, 3, 0, false}, {0, 4, 0, false}};
+  for (auto form : {ExclusionForm::kNotAllThree, ExclusionForm::kAtMostTwo, ExclusionForm::kAtMostTwoOr}) {
+    auto p = MakeTurns(devs, form);
+    EXPECT_EQ(Bound(p), Ticks(p.domain, 5)) << static_cast<int>(form);
+  }
+  // Four devices of 3, 4, 5 and 6 s, every three excluded: 18 s on two machines, 9.
+  auto four = MakeTurns({{0, 3, 0, false}, {0, 4, 0, false}, {0, 5, 0, false}, {0, 6, 0, false}},
+                        ExclusionForm::kAtMostTwo);
+  EXPECT_EQ(Bound(four), Ticks(four.domain, 9));
+  // The same written as consecutive triples only (1-2-3, 2-3-4): devices 1 and 4 may warm with
+  // any two others, so no pool of four; each triple alone is two machines (12 / 2 and 15 / 2).
+  auto consecutive = MakeTurns({{0, 3, 0, false}, {0, 4, 0, false}, {0, 5, 0, false}, {0, 6, 0, false}},
+                               ExclusionForm::kNotAllThree);
+  EXPECT_EQ(Bound(consecutive), Ticks(consecutive.domain, 8));
 }
 
 }  // namespace
