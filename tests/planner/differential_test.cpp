@@ -221,9 +221,10 @@ int CheckCoupledNearMisses(unsigned first, int count, int& split) {
   return checked;
 }
 
+// 24 seeds (40 until session 43, about 29 s of the test run: the suite has to fit its 15 minutes).
 TEST(Differential, CoupledNearMissesProvenStaticallyAreInfeasibleForEachSolver) {
   int split = 0;
-  const int checked = CheckCoupledNearMisses(0, 40, split);
+  const int checked = CheckCoupledNearMisses(0, 24, split);
   std::cout << "checked " << checked << ", by a split " << split << "\n";
   EXPECT_GE(checked, 6);
 }
@@ -338,11 +339,10 @@ TEST(Differential, ActionRulesAgreeAcrossEngines) {
   EXPECT_EQ(decided, 20);
 }
 
-// Three shards of 30 seeds (50 each until session 37, four shards until session 42: the suite had
-// to fit its 15 minutes; more with CTB_DIFF_SEED / CTB_DIFF_COUNT below).
+// Two shards of 30 seeds (50 each until session 37, four shards until session 42, three until
+// session 43: the suite has to fit its 15 minutes; more with CTB_DIFF_SEED / CTB_DIFF_COUNT below).
 TEST(Differential, Seeds0To29) { EXPECT_EQ(CheckRange(0, 30), 30); }
 TEST(Differential, Seeds50To79) { EXPECT_EQ(CheckRange(50, 30), 30); }
-TEST(Differential, Seeds150To179) { EXPECT_EQ(CheckRange(150, 30), 30); }
 
 // Seeds given in the environment (CTB_DIFF_SEED, CTB_DIFF_COUNT), for replaying cases by hand
 // or running more; without them, seed 200 (beyond the shards) runs.
