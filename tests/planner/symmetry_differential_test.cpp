@@ -308,11 +308,11 @@ int CheckRange(unsigned first, int count) {
   return symmetric;
 }
 
-// 20 problems (three shards of 20 until session 42, two until session 43: the suite has to fit its
-// 15 minutes), about three in four symmetric; the others check that nothing is ordered
+// 12 problems (three shards of 20 until session 42, two until session 43, one until later that
+// session: the suite has to fit its 15 minutes), about three in four symmetric; the others check that nothing is ordered
 // when a twist breaks the symmetry (with the state plan's checks left out of the detection, the
 // twists of seeds 9 and others come out wrong).
-TEST(SymmetryDifferential, Seeds0To19) { EXPECT_GE(CheckRange(0, 20), 10); }
+TEST(SymmetryDifferential, Seeds0To11) { EXPECT_GE(CheckRange(0, 12), 6); }
 
 }  // namespace
 }  // namespace symmetry_differential_test
