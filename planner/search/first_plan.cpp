@@ -130,14 +130,7 @@ class Search {
     return out;
   }
 
-  Value ValueOf(const Node& n) const {
-    switch (o_.objective) {
-      case Objective::kCost: return {n.cost, 0};
-      case Objective::kMakespan: return {n.time, 0};
-      case Objective::kCostThenMakespan: return {n.cost, n.time};
-    }
-    return {0, 0};
-  }
+  Value ValueOf(const Node& n) const { return ObjectiveKey(o_.objective, n.cost, n.time); }
 
   // Greedy on h until the first plan; then on g + h (the objective so far plus the estimate), so
   // that the improvement phase looks for better plans rather than other plans.
@@ -479,6 +472,15 @@ class Search {
 };
 
 }  // namespace
+
+std::pair<long, long> ObjectiveKey(Objective objective, long cost, long makespan) {
+  switch (objective) {
+    case Objective::kCost: return {cost, 0};
+    case Objective::kMakespan: return {makespan, 0};
+    case Objective::kCostThenMakespan: return {cost, makespan};
+  }
+  return {0, 0};
+}
 
 FirstPlanResult FindFirstPlan(const Domain& d, const StatePlan& sp, const FirstPlanOptions& o) {
   return Search(d, sp, o).Run();

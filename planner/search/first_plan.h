@@ -71,10 +71,13 @@ struct FirstPlanOptions {
   // Optional, parallel to scripts: a rank per scripted transition (the plan's event of it). Held
   // automata that cannot all fire at once go in this order (the plan's order of turns).
   std::vector<std::vector<int>> script_ranks;
-  // Only plans strictly better than this value are returned ((cost, 0), (makespan, 0) or
-  // (cost, makespan) by the objective).
+  // Only plans strictly better than this value (ObjectiveKey) are returned.
   std::optional<std::pair<long, long>> better_than;
 };
+
+// A plan's value as the engine compares it, lexicographically: (cost, 0), (makespan, 0) or
+// (cost, makespan) by the objective.
+std::pair<long, long> ObjectiveKey(Objective objective, long cost, long makespan);
 
 struct FirstPlanResult {
   std::optional<Trajectory> best;  // verified; horizon = goal_event

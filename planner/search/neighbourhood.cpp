@@ -21,15 +21,6 @@ constexpr std::size_t kTriplePool = 6;
 constexpr long kMinRoundMs = 10;
 constexpr long kRoundShare = 24;
 
-Value ValueOf(Objective objective, long cost, long makespan) {
-  switch (objective) {
-    case Objective::kCost: return {cost, 0};
-    case Objective::kMakespan: return {makespan, 0};
-    case Objective::kCostThenMakespan: return {cost, makespan};
-  }
-  return {0, 0};
-}
-
 // The automata by the event of their last transition, latest first (those that end the plan);
 // automata that never move come last, in index order.
 std::vector<int> ByLastMove(const Trajectory& plan, std::size_t automata) {
@@ -198,7 +189,7 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
   NeighbourhoodResult r;
   if (plan.history || (o.good_enough && o.good_enough(cost, makespan))) return r;
   Trajectory current = plan;
-  Value value = ValueOf(o.objective, cost, makespan);
+  Value value = ObjectiveKey(o.objective, cost, makespan);
   Taken taken = TakenIn(current, d.automata.size());
   std::vector<RoundSpec> rounds = Rounds(d, current, taken);
   // Re-timing keeps every transition, and so the cost: it is skipped under `cost`.
@@ -223,7 +214,7 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
     fo.script_ranks = std::move(round->ranks);
     FirstPlanResult found = FindFirstPlan(d, sp, fo);
     ++r.rounds;
-    if (!found.best || !(ValueOf(o.objective, found.cost, found.makespan) < value)) {
+    if (!found.best || !(ObjectiveKey(o.objective, found.cost, found.makespan) < value)) {
       ++next;
       continue;
     }
@@ -232,7 +223,7 @@ NeighbourhoodResult ImproveByNeighbourhoods(const Domain& d, const StatePlan& sp
     const bool retimed = rounds[next].free.empty() && rounds[next].a < 0;
     ++r.improved;
     current = std::move(*found.best);
-    value = ValueOf(o.objective, found.cost, found.makespan);
+    value = ObjectiveKey(o.objective, found.cost, found.makespan);
     r.best = current;
     r.cost = found.cost;
     r.makespan = found.makespan;
