@@ -27,6 +27,7 @@ struct SolveCliOptions {
   bool no_reuse = false;
   bool no_redundant = false;
   long first_plan_ms = -1;
+  long zone_proof_ms = -1;
   std::string model_out;
   std::string server;
   std::string pddl_plan;                 // write the plan here as PDDL 2.1
@@ -201,6 +202,7 @@ app::SolveCall MakeSolveCall(const SolveCliOptions& o, SolveInputs& in) {
     so.reuse_identical_parts = !o.no_reuse;
     so.redundant = !o.no_redundant;
     so.first_plan_ms = o.first_plan_ms;
+    so.zone_proof_ms = o.zone_proof_ms;
     so.model_out = o.model_out;
   };
   return call;
@@ -285,6 +287,10 @@ Runner AddSolve(CLI::App& app) {
   sub->add_option("--first-plan-ms", o->first_plan_ms,
                   "Budget of the first-plan engine, and again of the neighbourhood search on "
                   "its plan (-1 automatic, 0 off)")
+      ->check(CLI::Range(-1L, 3600L * 1000));
+  sub->add_option("--zone-proof-ms", o->zone_proof_ms,
+                  "Makespan: budget of the zone search that tries to prove the first plan "
+                  "optimal or raise the bound (-1 automatic, 0 off)")
       ->check(CLI::Range(-1L, 3600L * 1000));
   sub->add_option("--model-out", o->model_out, "Write the (last) MiniZinc model here");
   auto* pddl = sub->add_option("--pddl", o->pddl_files,

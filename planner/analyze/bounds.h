@@ -57,6 +57,27 @@ ObjectiveBounds LowerBounds(const Domain& d, const StatePlan& sp, const BoundOpt
 // True when a plan of this cost and makespan meets the bounds (so no plan is better).
 bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, long makespan_ticks);
 
+// A makespan bound raised by search (analyze/zone_bound.cpp): the zone search of zone_reach.h
+// with a deadline, which follows every run of the automata and the state plan (time dense,
+// commands read as either value), so "no run accepts the end state within D ticks" holds for
+// every plan. Events are at whole ticks (as every plan's), and a state from which the rest of
+// the run cannot end in time (analyze/earliest.h, RemainingTime) is not followed. Asks
+// D = plan - 1 first (a proof that the plan is optimal), then bisects between the bound and the
+// plan. Searched only for a state plan of a goal and a maintenance constraint
+// (RemainingTime::Applies) and at most 8 automata; otherwise the bound is returned as given.
+struct MakespanProofBudget {
+  long ms = 0;          // wall time for all the searches together
+  long states = 200000;  // symbolic states expanded, all searches together
+};
+struct MakespanProof {
+  long makespan_ticks = 0;  // no plan reaches its goal earlier (at least the bound given)
+  int searches = 0;
+  long states = 0;
+  long ms = 0;
+};
+MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long bound_ticks,
+                                 long plan_ticks, const MakespanProofBudget& budget);
+
 // The bound in the shape of the answer's objective value: cost, makespan in seconds, or both.
 ObjectiveValue BoundValue(const ObjectiveBounds& b, Objective objective, long ticks_per_second);
 inline Json BoundJson(const ObjectiveBounds& b, Objective objective, long ticks_per_second) {

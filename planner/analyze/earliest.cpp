@@ -57,11 +57,48 @@ bool NeedsOwnActive(const Expr& e, int q) {
   return false;
 }
 
+// [automaton][from][to]: least lower durations, guards ignored.
+using Distances = std::vector<std::vector<std::vector<long>>>;
+
+// A guard that is a conjunction of atoms (and true), as its atoms; false for any other shape.
+bool ConjunctionAtoms(const Expr& e, std::vector<const Expr*>& out) {
+  switch (e.op) {
+    case Expr::Op::kTrue: return true;
+    case Expr::Op::kAtom: out.push_back(&e); return true;
+    case Expr::Op::kAnd: return ConjunctionAtoms(e.kids[0], out) && ConjunctionAtoms(e.kids[1], out);
+    default: return false;
+  }
+}
+
+// [automaton][transition]: the guard's atoms when it is such a conjunction (`flat`), so that
+// SettleArrivals reads it without walking the tree.
+struct FlatGuard {
+  bool flat = false;
+  std::vector<const Expr*> atoms;
+};
+using FlatGuards = std::vector<std::vector<FlatGuard>>;
+
 class Earliest {
  public:
   Earliest(const Domain& d, const StatePlan& sp, Measure measure)
       : d_(d), sp_(sp), tps_(std::max(1L, std::lround(1.0 / d.time_resolution))),
-        events_(measure == Measure::kEvents) {}
+        events_(measure == Measure::kEvents), start_(sp.initial) {}
+
+  // From a state under way (RemainingTime): each automaton in `loc` since `since` ticks; time
+  // 0 is now, and no transition fires before it.
+  Earliest(const Domain& d, const StatePlan& sp, const std::vector<int>& loc,
+           const std::vector<long>& since, const Distances& dist, const FlatGuards& flat)
+      : d_(d), sp_(sp), tps_(std::max(1L, std::lround(1.0 / d.time_resolution))), events_(false),
+        start_(loc), since_(&since), dist_(&dist), flat_(&flat) {}
+
+  // The goal and the helpers' return from the state under way (no state-plan network).
+  long GoalFromState() {
+    dwell_.assign(d_.automata.size(), {});
+    for (std::size_t a = 0; a < d_.automata.size(); ++a)
+      dwell_[a].assign(d_.automata[a].locations.size(), 0);
+    if (!SettleArrivals()) return 0;
+    return std::max(GoalTime(), HelperReturnTime());
+  }
 
   std::optional<EarliestTimes> Run() {
     ComputeDwell();
@@ -99,10 +136,46 @@ class Earliest {
     if (atom.var_kind != VarKind::kLocation || atom.index.kind == IndexKind::kFixed) return 0;
     const std::vector<long>& arr = arr_[atom.target];
     if (!atom.not_equal) return arr[atom.value_code];
+    if (!least_.empty()) {  // the two least arrivals of the round (SettleArrivals)
+      const Least& m = least_[atom.target];
+      return m.at == atom.value_code ? m.second : m.first;
+    }
     long first = kNever;
     for (std::size_t l = 0; l < arr.size(); ++l)
       if (static_cast<int>(l) != atom.value_code) first = std::min(first, arr[l]);
     return first;
+  }
+
+  long GuardTime(std::size_t a, std::size_t ti, const AtomBound& atom) const {
+    if (flat_) {
+      const FlatGuard& g = (*flat_)[a][ti];
+      if (g.flat) {
+        long t = 0;
+        for (const Expr* e : g.atoms) t = std::max(t, LocationAtom(*e));
+        return t;
+      }
+    }
+    return EarliestOf(d_.automata[a].transitions[ti].guard, atom);
+  }
+
+  // Per automaton the least arrival (and where) and the second least: "a != l" in one step.
+  struct Least {
+    long first = kNever, second = kNever;
+    int at = -1;
+  };
+  void ComputeLeast() {
+    least_.assign(arr_.size(), Least{});
+    for (std::size_t a = 0; a < arr_.size(); ++a) {
+      Least& m = least_[a];
+      for (std::size_t l = 0; l < arr_[a].size(); ++l) {
+        const long v = arr_[a][l];
+        if (v < m.first) {
+          m.second = m.first, m.first = v, m.at = static_cast<int>(l);
+        } else if (v < m.second) {
+          m.second = v;
+        }
+      }
+    }
   }
 
   // First entries, settled from above (Bellman-Ford rounds): a transition from l fires no earlier
@@ -113,25 +186,33 @@ class Earliest {
     arr_.resize(d_.automata.size());
     for (std::size_t a = 0; a < d_.automata.size(); ++a) {
       arr_[a].assign(d_.automata[a].locations.size(), kNever);
-      arr_[a][sp_.initial[a]] = 0;
+      arr_[a][start_[a]] = since_ ? -(*since_)[a] : 0;
       nodes += arr_[a].size();
     }
     const AtomBound atom = [this](const Expr& e) { return LocationAtom(e); };
     for (std::size_t round = 0; round <= nodes + 1; ++round) {
       bool changed = false;
+      // Guards read the round's start (values only fall, so a stale one is larger): the rounds
+      // go on until one changes nothing, and the last reads the settled values.
+      ComputeLeast();
       for (std::size_t a = 0; a < d_.automata.size(); ++a)
-        for (const Transition& t : d_.automata[a].transitions) {
+        for (std::size_t ti = 0; ti < d_.automata[a].transitions.size(); ++ti) {
+          const Transition& t = d_.automata[a].transitions[ti];
           const long from = arr_[a][t.from];
           if (from >= kNever) continue;
           long fire = std::max({Add(from, Duration(t)), Add(from, dwell_[a][t.from]),
-                                Add(EarliestOf(t.guard, atom), events_ ? 1 : 0)});
+                                Add(GuardTime(a, ti, atom), events_ ? 1 : 0), 0L});
           if (fire < arr_[a][t.to]) {
             arr_[a][t.to] = fire;
             changed = true;
           }
         }
-      if (!changed) return true;
+      if (!changed) {
+        least_.clear();
+        return true;
+      }
     }
+    least_.clear();
     return false;
   }
 
@@ -254,6 +335,7 @@ class Earliest {
   // Least time (events) over lower durations (transitions) from entering m to entering `to`,
   // guards ignored.
   long Distance(int a, int m, int to) const {
+    if (dist_) return (*dist_)[a][m][to];
     return ShortestFrom(d_.automata[a], m, [this](const Transition& t) { return Duration(t); })[to];
   }
 
@@ -285,7 +367,7 @@ class Earliest {
     for (auto [a, l] : pins) pinned[a] = l;
     long best = 0;
     for (auto [b, l] : pins) {
-      if (l == sp_.initial[b]) continue;
+      if (l == start_[b]) continue;
       long entry = kNever;
       for (const Transition& t : d_.automata[b].transitions) {
         if (t.to != l || t.from == l) continue;
@@ -303,7 +385,12 @@ class Earliest {
   const StatePlan& sp_;
   const long tps_;
   const bool events_;
+  const std::vector<int>& start_;         // where each automaton is at time 0
+  const std::vector<long>* since_ = nullptr;  // how long it has been there (null: just entered)
+  const Distances* dist_ = nullptr;           // Distance, precomputed (null: computed)
+  const FlatGuards* flat_ = nullptr;          // guards as atoms, where they are conjunctions
   std::vector<std::vector<long>> dwell_, arr_;
+  std::vector<Least> least_;  // during SettleArrivals only
   std::vector<long> ep_s_, ep_e_, tc_1_, tc_2_, tc_a_, tc_b_;
 };
 
@@ -338,6 +425,41 @@ std::vector<long> ShortestFrom(const Automaton& a, int from,
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,
                                                   Measure measure) {
   return Earliest(d, sp, measure).Run();
+}
+
+struct RemainingTime::Tables {
+  Distances dist;
+  FlatGuards flat;
+};
+
+RemainingTime::~RemainingTime() = default;
+
+RemainingTime::RemainingTime(const Domain& d, const StatePlan& sp)
+    : d_(d), sp_(sp), tables_(std::make_unique<Tables>()) {
+  const long tps = std::max(1L, std::lround(1.0 / d.time_resolution));
+  Distances& dist_ = tables_->dist;
+  dist_.resize(d.automata.size());
+  tables_->flat.resize(d.automata.size());
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    for (const Transition& t : d.automata[a].transitions) {
+      FlatGuard g;
+      g.flat = ConjunctionAtoms(t.guard, g.atoms);
+      tables_->flat[a].push_back(std::move(g));
+    }
+  for (std::size_t a = 0; a < d.automata.size(); ++a)
+    for (std::size_t m = 0; m < d.automata[a].locations.size(); ++m)
+      dist_[a].push_back(ShortestFrom(d.automata[a], static_cast<int>(m), [tps](const Transition& t) {
+        return Ticks(t.duration.lo, tps);
+      }));
+}
+
+bool RemainingTime::Applies(const StatePlan& sp) {
+  return sp.episodes.empty() && sp.temporals.empty() && sp.events.empty() &&
+         !sp.goal.info.IsChange();
+}
+
+long RemainingTime::Goal(const std::vector<int>& loc, const std::vector<long>& since) const {
+  return Earliest(d_, sp_, loc, since, tables_->dist, tables_->flat).GoalFromState();
 }
 
 }  // namespace ctb

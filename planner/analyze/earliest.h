@@ -17,6 +17,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -46,6 +47,25 @@ void RequiredLocations(const Expr& e, std::vector<std::pair<int, int>>& out);
 // ignored); EarliestTimes::kNever where there is none. Weights must be non-negative.
 std::vector<long> ShortestFrom(const Automaton& a, int from,
                                const std::function<long(const Transition&)>& weight);
+
+// The earliest goal of the rest of a run from a state under way, for a state plan of a goal and
+// a maintenance constraint only (Applies): the arrivals, the goal and the helpers' return of
+// ComputeEarliestTimes, with time 0 now, each automaton a in loc[a] since since[a] ticks (no
+// less: a larger value is a weaker, still valid, bound) and no transition before now. Each rule
+// holds on every continuation of a run through that state, as on every run from e[0].
+class RemainingTime {
+ public:
+  RemainingTime(const Domain& d, const StatePlan& sp);
+  ~RemainingTime();
+  static bool Applies(const StatePlan& sp);
+  long Goal(const std::vector<int>& loc, const std::vector<long>& since) const;
+
+ private:
+  struct Tables;  // shortest lower durations between locations; guards as lists of atoms
+  const Domain& d_;
+  const StatePlan& sp_;
+  std::unique_ptr<Tables> tables_;
+};
 
 // nullopt when the fixpoint does not settle within its round limit (then no bound is claimed).
 std::optional<EarliestTimes> ComputeEarliestTimes(const Domain& d, const StatePlan& sp,

@@ -19,10 +19,6 @@ using SteadyClock = std::chrono::steady_clock;
 // proof on the shipped cases takes a few hundred states; a plan is usually found in fewer.
 constexpr std::chrono::milliseconds kTimeBudget{100};
 constexpr long kStateBudget = 60000;
-// Each event may move any subset of the automata: beyond this many, one state has too many
-// successors for a proof within the budget (a team of 8 robots and 3 doors spent it all without
-// one), and the search is not started.
-constexpr std::size_t kMaxAutomata = 8;
 
 // A part of the state plan the search can drop: its pointer and where its flag is.
 struct Part {
@@ -188,13 +184,13 @@ ZoneQuestion WholePlan(const Domain& d, const StatePlan& sp, bool clocks_known) 
 
 std::optional<ZoneConflict> FindZoneConflict(const Domain& d, const StatePlan& sp,
                                              bool clocks_known) {
-  if (d.automata.size() > kMaxAutomata) return std::nullopt;
+  if (d.automata.size() > kMaxZoneAutomata) return std::nullopt;
   return Conflict(d, sp, clocks_known).Run();
 }
 
 std::vector<BoundHint> FindZoneHints(const Domain& d, const StatePlan& sp,
                                      const std::vector<std::string>& parts, bool clocks_known) {
-  if (d.automata.size() > kMaxAutomata) return {};
+  if (d.automata.size() > kMaxZoneAutomata) return {};
   Conflict c(d, sp, clocks_known);
   c.Keep(parts);
   return c.HintsOnly();

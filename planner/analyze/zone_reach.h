@@ -31,11 +31,22 @@ struct ZoneQuestion {
   std::vector<char> episodes, temporals, events;  // kept, per part
   std::vector<std::int64_t> ep_lo, ep_hi, tc_lo, tc_hi;
   bool clocks_known = true;  // every clock is 0 at e[0]; else any value (a run under way)
+  // When >= 0: the end state is accepted no later than this many ticks after e[0] (a clock of
+  // its own, never reset). No run within it: every plan's makespan is above it.
+  std::int64_t deadline = -1;
+  // With a deadline: events at whole ticks only, as in every plan (the valuations stay points
+  // and the search explores each delay of 0, 1, ... ticks). Exact for plans, not for dense runs.
+  bool whole_ticks = false;
 };
 
 ZoneQuestion WholePlan(const Domain& d, const StatePlan& sp, bool clocks_known);
 
 enum class Reach { kNoRun, kRun, kUnknown };
+
+// Each event may move any subset of the automata: beyond this many, one state has too many
+// successors for a proof within a budget (a team of 8 robots and 3 doors spent it all without
+// one), and the searches of this header are not started.
+constexpr std::size_t kMaxZoneAutomata = 8;
 
 // Limits shared by the searches of one analysis.
 struct ZoneBudget {

@@ -17,6 +17,7 @@
 //     and every part is accepted; the maintenance constraint holds on every stage before it.
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <queue>
 
 #include "planner/analyze/abstraction.h"
@@ -95,8 +96,10 @@ class Search {
         b_(b),
         na_(static_cast<int>(d.automata.size())),
         ne_(static_cast<int>(sp.episodes.size())),
-        nt_(static_cast<int>(sp.temporals.size())) {
+        nt_(static_cast<int>(sp.temporals.size())),
+        nc_(na_ + ne_ + nt_ + (q.deadline >= 0 ? 1 : 0)) {
     Prepare();
+    if (q_.deadline >= 0 && q_.goal && RemainingTime::Applies(sp_)) rest_.emplace(d_, sp_);
   }
 
   Reach Run() {
@@ -105,7 +108,7 @@ class Search {
       if (!q_.episodes[p]) s0.ep[p] = kEpAccepted;
     for (int k = 0; k < nt_; ++k)
       if (!q_.temporals[k]) s0.tc[k] = kTcAccepted;
-    Dbm z(na_ + ne_ + nt_);
+    Dbm z(nc_);
     if (!q_.clocks_known)
       for (int a = 0; a < na_; ++a) z.Free(AC(a));
     // Event e[0]: no transition; the accepting automata read the initial stage.
@@ -123,6 +126,8 @@ class Search {
   int AC(int a) const { return 1 + a; }
   int EC(int p) const { return 1 + na_ + p; }
   int TC(int k) const { return 1 + na_ + ne_ + k; }
+  // The clock of the deadline (ZoneQuestion::deadline): time since e[0], never reset.
+  int GC() const { return 1 + na_ + ne_ + nt_; }
 
   std::int64_t Ticks(double s) const { return std::llround(s * static_cast<double>(q_.tps)); }
   // Bounds at or beyond the largest a state plan may give read as none (the search is then an
@@ -225,11 +230,16 @@ class Search {
     return Eval3(c.raw, [&](const Expr& a) { return Atom(a, v, false); });
   }
 
-  Tv Guard(const Transition& tr, const std::vector<int>& loc) const {
+  // A guard on the stage before an event. `cmd` (optional): per automaton the command it
+  // issued on that stage when known (-1: unknown, any value).
+  Tv Guard(const Transition& tr, const std::vector<int>& loc,
+           const std::vector<int>* cmd = nullptr) const {
     return Eval3(tr.guard, [&](const Expr& a) {
-      return a.var_kind == VarKind::kLocation
-                 ? FromBool((loc[a.target] == a.value_code) != a.not_equal)
-                 : Tv::kUnknown;
+      if (a.var_kind == VarKind::kLocation)
+        return FromBool((loc[a.target] == a.value_code) != a.not_equal);
+      if (a.var_kind == VarKind::kCommand && cmd && (*cmd)[a.target] >= 0)
+        return FromBool(((*cmd)[a.target] == a.value_code) != a.not_equal);
+      return Tv::kUnknown;
     });
   }
 
@@ -272,12 +282,14 @@ class Search {
       const bool active = s.tc[k] == kAwait1 || s.tc[k] == kAwait2;
       if (active && Bounded(q_.tc_hi[k]) && !z.AtMost(TC(k), q_.tc_hi[k])) return false;
     }
-    return true;
+    // Every event of a run comes no later than its end state's acceptance.
+    return q_.deadline < 0 || z.AtMost(GC(), q_.deadline);
   }
 
   // The zones in which the next event may happen: after a delay that passes no due automatic
   // transition, or at once.
   std::vector<Dbm> Elapse(const Sym& s, const Stage& st) const {
+    if (q_.deadline >= 0 && q_.whole_ticks) return ElapseTicks(s, st);
     std::vector<Dbm> out;
     Dbm later = s.z;
     later.Up();
@@ -293,6 +305,30 @@ class Search {
     return out;
   }
 
+  // The same with events at whole ticks only (every plan's are: its times are in ticks): the
+  // zone stays one valuation, and the next event comes after 0, 1, 2, ... ticks, up to the
+  // deadline or the first due automatic transition.
+  std::vector<Dbm> ElapseTicks(const Sym& s, const Stage& st) const {
+    std::vector<Dbm> out;
+    Dbm now = s.z;
+    if (Limits(s.s, st, now)) out.push_back(now);
+    const std::int64_t g = -(s.z.At(0, GC()) - 1) / 2;  // the valuation's time: -G <= -g
+    for (std::int64_t t = g + 1; t <= q_.deadline; ++t) {
+      Dbm later = s.z;
+      later.Up();
+      if (!later.AtLeast(GC(), t) || !later.AtMost(GC(), t) || !Limits(s.s, st, later)) break;
+      bool ok = true;
+      for (int a = 0; a < na_ && ok; ++a)
+        for (auto [tr_index, g2] : st.out[a]) {
+          const Transition& tr = d_.automata[a].transitions[tr_index];
+          if (Urgent(tr, g2) && !later.AtMost(AC(a), Ticks(tr.duration.lo))) ok = false;
+        }
+      if (!ok) break;
+      out.push_back(std::move(later));
+    }
+    return out;
+  }
+
   // --- the event ----------------------------------------------------------------------------
 
   struct Move {
@@ -300,6 +336,7 @@ class Search {
     const Stage* st;
     std::vector<int> loc;
     std::vector<int> moved;
+    std::vector<int> taken;  // the transition of each automaton in `moved`
   };
 
   bool Expand(const Sym& s) {
@@ -342,15 +379,35 @@ class Search {
       if (!NotDue(m, a, t, go)) continue;
       m.loc[a] = tr.to;
       m.moved.push_back(a);
+      m.taken.push_back(t);
       const bool run = Moves(m, a + 1, go);
       m.moved.pop_back();
+      m.taken.pop_back();
       m.loc[a] = from;
       if (run) return true;
     }
     return false;
   }
 
+  // An automaton that takes a transition whose guard requires one command of its own issued
+  // that command on the stage before: the guards of this event that read it must hold with it.
+  bool CommandsAgree(const Move& m) const {
+    std::vector<int> cmd(na_, -1);
+    bool any = false;
+    for (std::size_t k = 0; k < m.moved.size(); ++k) {
+      const Transition& tr = d_.automata[m.moved[k]].transitions[m.taken[k]];
+      if (tr.commanded && tr.command > 0) cmd[m.moved[k]] = tr.command, any = true;
+    }
+    if (!any) return true;
+    for (std::size_t k = 0; k < m.moved.size(); ++k) {
+      const Transition& tr = d_.automata[m.moved[k]].transitions[m.taken[k]];
+      if (!tr.guard_info.commands_read.empty() && Guard(tr, m.s->s.loc, &cmd) == Tv::kFalse) return false;
+    }
+    return true;
+  }
+
   bool Fire(const Move& m, Dbm z) {
+    if (!CommandsAgree(m)) return false;
     for (int a : m.moved) z.Reset(AC(a));
     return Monitors(View{&m.s->s.loc, &m.loc, &m.s->s}, m.s->s, z);
   }
@@ -481,7 +538,8 @@ class Search {
 
   // Clocks no rule reads any more are freed; the others keep their largest constant.
   std::vector<std::int64_t> MaxConstants(const Disc& s) const {
-    std::vector<std::int64_t> m(1 + na_ + ne_ + nt_, -1);
+    std::vector<std::int64_t> m(1 + nc_, -1);
+    if (q_.deadline >= 0) m[GC()] = q_.deadline;
     for (int a = 0; a < na_; ++a) m[AC(a)] = maxc_[a][s.loc[a]];
     for (int p = 0; p < ne_; ++p)
       if (s.ep[p] == kEpActive) m[EC(p)] = Bounded(q_.ep_hi[p]) ? q_.ep_hi[p] : q_.ep_lo[p];
@@ -494,8 +552,26 @@ class Search {
   // Zones kept (each n x n bounds): at most about 32 MB of them per search, whatever the number
   // of clocks; beyond, no proof.
   long MaxKept() const {
-    const long n = 1 + na_ + ne_ + nt_;
+    const long n = 1 + nc_;
     return std::max(1000L, 4000000L / (n * n));
+  }
+
+  // With a deadline: a state whose rest of the run cannot reach the goal in time (earliest.h,
+  // RemainingTime, from each automaton's location and the longest time it may have spent
+  // there) is not kept.
+  bool TooLate(const Disc& s, const Dbm& z) const {
+    if (!rest_) return false;
+    std::vector<long> since(na_);
+    for (int a = 0; a < na_; ++a) {
+      const Dbm::Raw up = z.At(AC(a), 0);
+      since[a] = up >= Dbm::kInfinity ? (1L << 40) : static_cast<long>(up >> 1);
+    }
+    const long now = -static_cast<long>(z.At(0, GC()) >> 1);  // G's lower bound
+    std::vector<long> key(s.loc.begin(), s.loc.end());
+    key.insert(key.end(), since.begin(), since.end());
+    auto [it, fresh] = rest_memo_.try_emplace(std::move(key), 0);
+    if (fresh) it->second = rest_->Goal(s.loc, since);
+    return now + it->second > q_.deadline;
   }
 
   void Push(const Disc& s, Dbm z) {
@@ -508,6 +584,7 @@ class Search {
     auto& seen = passed_[s.Key()];
     for (const Dbm& o : seen)
       if (o.Includes(z)) return;
+    if (TooLate(s, z)) return;
     seen.erase(
         std::remove_if(seen.begin(), seen.end(), [&](const Dbm& o) { return z.Includes(o); }),
         seen.end());
@@ -520,6 +597,10 @@ class Search {
   const ZoneQuestion& q_;
   ZoneBudget& b_;
   const int na_, ne_, nt_;
+  const int nc_;  // clocks besides the reference
+  // With a deadline, on a goal and maintenance constraint alone: the pruning rule of TooLate.
+  std::optional<RemainingTime> rest_;
+  mutable std::map<std::vector<long>, long> rest_memo_;  // locations and times there -> rest
   std::vector<std::vector<std::vector<int>>> out_;  // [a][location] -> transitions
   std::vector<std::vector<std::int64_t>> maxc_;     // [a][location]: largest constant, -1 none
   std::map<std::vector<int>, std::vector<Dbm>> passed_;

@@ -181,6 +181,29 @@ std::variant<SolveResult, Error> SolveForbidding(const Domain& d, const StatePla
   return SolveFixed(d, sp, with, &without);
 }
 
+long ZoneProofBudgetMs(const SolveOptions& o) {
+  if (o.zone_proof_ms >= 0) return o.zone_proof_ms;
+  return std::min(2000L, o.time_limit_ms / 5);
+}
+
+// Makespan: the zone search with a deadline (analyze/bounds.h) on the plan's makespan less a
+// tick, within its budget and the time left; raises `bounds` to what it shows. True when the
+// plan now meets it (optimal).
+bool RaiseBoundByZones(const Domain& d, const StatePlan& sp, const SolveOptions& o,
+                       ObjectiveBounds& bounds, long plan_ticks, Clock::time_point t0,
+                       Json& stats) {
+  MakespanProofBudget budget;
+  budget.ms = std::min(ZoneProofBudgetMs(o), o.time_limit_ms - MsSince(t0));
+  if (budget.ms <= 0) return false;
+  const long before = bounds.makespan_ticks;
+  MakespanProof p = RaiseMakespanBound(d, sp, before, plan_ticks, budget);
+  if (p.searches == 0) return false;
+  stats["zone_bound"] = {{"ms", p.ms}, {"searches", p.searches}, {"states", p.states},
+                         {"raised", p.makespan_ticks > before}};
+  bounds.makespan_ticks = std::max(before, p.makespan_ticks);
+  return bounds.makespan_ticks >= plan_ticks;
+}
+
 std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp, const SolveOptions& o,
                                      const Domain* analysis) {
   if (!analysis && !sp.forbidden.empty() && !o.bounds && !o.history) return SolveForbidding(d, sp, o);
@@ -231,6 +254,11 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     meets_bound = incumbent &&
                   MeetsLowerBounds(bounds, objective, incumbent->cost, incumbent->makespan);
   }
+  bool by_zones = false;
+  if (incumbent && !meets_bound && objective == Objective::kMakespan && !o.history) {
+    by_zones = RaiseBoundByZones(d, sp, o, *known_bounds, incumbent->makespan, t0, stats);
+    meets_bound = by_zones;
+  }
   if (meets_bound) {
     Core c;
     c.status = Termination::kOptimal;
@@ -239,7 +267,7 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
     c.first_solution_ms = found_ms;
     c.engine = "heuristic";
     c.found_by = {Method::kHeuristic, ""};
-    c.proved_by = {Method::kLowerBound, ""};
+    c.proved_by = {by_zones ? Method::kZoneSearch : Method::kLowerBound, ""};
     WriteModelOut(d, sp, o, objective, c.horizon);
     return ResultOf(d, sp, objective, c, max_h, MsSince(t0), stats, solver, bounds_of_whole(),
                     o.plan_out);

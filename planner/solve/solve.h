@@ -89,6 +89,11 @@ struct SolveOptions {
   // the lower bound, the neighbourhood search (planner/search/neighbourhood.h) improves it for as
   // long again (within the time limit). -1: min(500 ms, a tenth of time_limit_ms); 0: neither runs.
   long first_plan_ms = -1;
+  // Makespan, when the first-plan engine's plan does not meet the lower bound: the zone search
+  // with a deadline (analyze/bounds.h, RaiseMakespanBound) tries for at most this long to show
+  // that no plan ends earlier, or raises the bound. -1: min(2000 ms, a fifth of time_limit_ms);
+  // 0: off.
+  long zone_proof_ms = -1;
   // Internal (the split's lower bounds): runs whose events may carry no transition.
   bool idle_events = false;
   // Called on the calling thread each time a better verified plan is kept. Not called for the

@@ -54,6 +54,7 @@ std::string Credit::Name() const {
     case Method::kLowerBound: return "lower bound";
     case Method::kStaticAnalysis: return "static analysis";
     case Method::kHistoryCheck: return "history check";
+    case Method::kZoneSearch: return "zone search";
   }
   return "";
 }

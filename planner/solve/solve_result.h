@@ -55,11 +55,15 @@ Json ExplanationJson(const Explanation& e);
 
 // What found a plan or proved a status: an exact engine (named by its backend: "gecode", "z3",
 // or a test's own), or one of the planner's own methods.
-enum class Method { kNone, kEngine, kHeuristic, kLowerBound, kStaticAnalysis, kHistoryCheck };
+enum class Method {
+  kNone, kEngine, kHeuristic, kLowerBound, kStaticAnalysis, kHistoryCheck,
+  kZoneSearch,  // the makespan bound raised by the zone search with a deadline (bounds.h)
+};
 struct Credit {
   Method method = Method::kNone;
   std::string engine;  // kEngine: the backend's name
-  // "gecode", "heuristic", "lower bound", "static analysis", "history check"; "" for kNone.
+  // "gecode", "heuristic", "lower bound", "static analysis", "history check", "zone search";
+  // "" for kNone.
   std::string Name() const;
   bool empty() const { return method == Method::kNone; }
 };

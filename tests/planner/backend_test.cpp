@@ -165,6 +165,7 @@ TEST(Backend, AnIncumbentWithNothingBetterAtAnyHorizonIsOptimal) {
   o.max_horizon = 16;  // the engine's plan has about a dozen events
   o.portfolio = 1;
   o.objective = Objective::kMakespan;
+  o.zone_proof_ms = 0;  // the zone search with a deadline proves it too (below): the engine's turn
   auto r = SolveDocument(d, sp, o);
   ASSERT_TRUE(std::holds_alternative<Json>(r));
   const Json& t = std::get<Json>(r);
@@ -176,6 +177,18 @@ TEST(Backend, AnIncumbentWithNothingBetterAtAnyHorizonIsOptimal) {
   ASSERT_FALSE(b.horizons().empty());
   EXPECT_EQ(b.horizons().back(), 16);  // refuted up to max_horizon (makespan)
   EXPECT_GE(t["stats"]["first_solution_ms"].get<long>(), 0);
+  // With the zone search (analyze/bounds.h, RaiseMakespanBound) the engine is not asked: no run
+  // ends before the plan does.
+  ScriptedBackend unused(RunResult::Status::kInfeasible);
+  o.backend = &unused;
+  o.zone_proof_ms = 600000;  // ends by its states
+  auto z = SolveDocument(d, sp, o);
+  ASSERT_TRUE(std::holds_alternative<Json>(z));
+  const Json& u = std::get<Json>(z);
+  EXPECT_EQ(u["status"], "optimal");
+  EXPECT_EQ(u["objective"], t["objective"]);
+  EXPECT_EQ(u["stats"]["proved_by"], "zone search");
+  EXPECT_TRUE(unused.horizons().empty());
 }
 
 // Off, the same problem is infeasible by the same script: the status came from the incumbent.

@@ -1,0 +1,52 @@
+// The makespan bound raised by the zone search with a deadline (bounds.h, RaiseMakespanBound).
+// The search over-approximates the runs (zone_reach.h): when no run accepts the end state within
+// D ticks, no plan does, so every plan's makespan is at least D + 1. Refutation is monotone in D
+// (a run within D is one within every later deadline), so the bound is found by bisection.
+#include <algorithm>
+#include <chrono>
+
+#include "planner/analyze/bounds.h"
+#include "planner/analyze/zone_reach.h"
+
+namespace ctb {
+
+MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long bound_ticks,
+                                 long plan_ticks, const MakespanProofBudget& budget) {
+  using SteadyClock = std::chrono::steady_clock;
+  const auto t0 = SteadyClock::now();
+  MakespanProof out;
+  out.makespan_ticks = bound_ticks;
+  if (d.automata.size() > analysis::kMaxZoneAutomata || plan_ticks <= bound_ticks ||
+      budget.ms <= 0 || !RemainingTime::Applies(sp))
+    return out;
+  analysis::ZoneQuestion q = analysis::WholePlan(d, sp, true);
+  q.whole_ticks = true;  // a plan's events are at whole ticks
+  analysis::ZoneBudget b{budget.states, t0 + std::chrono::milliseconds(budget.ms)};
+  // No run within `deadline`: proven, every plan ends later.
+  auto refuted = [&](long deadline) {
+    q.deadline = deadline;
+    ++out.searches;
+    const long before = b.states;
+    const bool no_run = analysis::SearchZones(d, sp, q, b) == analysis::Reach::kNoRun;
+    out.states += before - std::max(0L, b.states);
+    return no_run;
+  };
+  // The question that ends the search first: nothing within the plan's makespan less a tick.
+  long bad = bound_ticks - 1, good = plan_ticks - 1;  // bad: refuted (known); good: not shown
+  if (refuted(good)) {
+    bad = good;
+  } else {
+    while (good - bad > 1 && b.states > 0 && SteadyClock::now() < b.deadline) {
+      const long mid = bad + (good - bad) / 2;
+      if (refuted(mid))
+        bad = mid;
+      else
+        good = mid;
+    }
+  }
+  out.makespan_ticks = std::max(bound_ticks, bad + 1);
+  out.ms = std::chrono::duration_cast<std::chrono::milliseconds>(SteadyClock::now() - t0).count();
+  return out;
+}
+
+}  // namespace ctb
