@@ -10,6 +10,12 @@
 
 namespace ctb {
 
+namespace {
+
+constexpr long kMaxWholeTicks = 1000;
+
+}  // namespace
+
 MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long bound_ticks,
                                  long plan_ticks, const MakespanProofBudget& budget) {
   using SteadyClock = std::chrono::steady_clock;
@@ -20,7 +26,10 @@ MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long boun
       budget.ms <= 0 || !RemainingTime::Applies(sp))
     return out;
   analysis::ZoneQuestion q = analysis::WholePlan(d, sp, true);
-  q.whole_ticks = true;  // a plan's events are at whole ticks
+  // A plan's events are at whole ticks: each delay of 0, 1, 2, ... ticks is a successor of its
+  // own, which pays while the plan is a few hundred ticks long; beyond, dense zones (a fine time
+  // resolution would make millions of them).
+  q.whole_ticks = plan_ticks <= kMaxWholeTicks;
   analysis::ZoneBudget b{budget.states, t0 + std::chrono::milliseconds(budget.ms)};
   // No run within `deadline`: proven, every plan ends later.
   auto refuted = [&](long deadline) {

@@ -34,8 +34,9 @@ struct ZoneQuestion {
   // When >= 0: the end state is accepted no later than this many ticks after e[0] (a clock of
   // its own, never reset). No run within it: every plan's makespan is above it.
   std::int64_t deadline = -1;
-  // With a deadline: events at whole ticks only, as in every plan (the valuations stay points
-  // and the search explores each delay of 0, 1, ... ticks). Exact for plans, not for dense runs.
+  // With a deadline: events at whole ticks only, as in every plan (the valuations stay points,
+  // but for freed clocks, and the search explores each delay of 0, 1, ... ticks: for deadlines
+  // of a few hundred ticks). Exact for plans, not for dense runs.
   bool whole_ticks = false;
 };
 

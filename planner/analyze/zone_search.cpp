@@ -288,7 +288,7 @@ class Search {
 
   // The zones in which the next event may happen: after a delay that passes no due automatic
   // transition, or at once.
-  std::vector<Dbm> Elapse(const Sym& s, const Stage& st) const {
+  std::vector<Dbm> Elapse(const Sym& s, const Stage& st) {
     if (q_.deadline >= 0 && q_.whole_ticks) return ElapseTicks(s, st);
     std::vector<Dbm> out;
     Dbm later = s.z;
@@ -306,14 +306,15 @@ class Search {
   }
 
   // The same with events at whole ticks only (every plan's are: its times are in ticks): the
-  // zone stays one valuation, and the next event comes after 0, 1, 2, ... ticks, up to the
-  // deadline or the first due automatic transition.
-  std::vector<Dbm> ElapseTicks(const Sym& s, const Stage& st) const {
+  // zone stays one valuation (but for clocks no rule reads, which extrapolation frees), and the
+  // next event comes after 0, 1, 2, ... ticks, up to the deadline or the first due automatic
+  // transition or overstay (each later tick fails too).
+  std::vector<Dbm> ElapseTicks(const Sym& s, const Stage& st) {
     std::vector<Dbm> out;
     Dbm now = s.z;
     if (Limits(s.s, st, now)) out.push_back(now);
     const std::int64_t g = -(s.z.At(0, GC()) - 1) / 2;  // the valuation's time: -G <= -g
-    for (std::int64_t t = g + 1; t <= q_.deadline; ++t) {
+    for (std::int64_t t = g + 1; t <= q_.deadline && !Spent(); ++t) {
       Dbm later = s.z;
       later.Up();
       if (!later.AtLeast(GC(), t) || !later.AtMost(GC(), t) || !Limits(s.s, st, later)) break;
@@ -569,6 +570,7 @@ class Search {
     const long now = -static_cast<long>(z.At(0, GC()) >> 1);  // G's lower bound
     std::vector<long> key(s.loc.begin(), s.loc.end());
     key.insert(key.end(), since.begin(), since.end());
+    if (rest_memo_.size() > 4 * static_cast<std::size_t>(MaxKept())) rest_memo_.clear();
     auto [it, fresh] = rest_memo_.try_emplace(std::move(key), 0);
     if (fresh) it->second = rest_->Goal(s.loc, since);
     return now + it->second > q_.deadline;

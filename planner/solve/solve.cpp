@@ -100,6 +100,9 @@ std::optional<Error> ValidateSolveOptions(const SolveOptions& o) {
   if (o.first_plan_ms < -1 || o.first_plan_ms > 3600 * 1000)
     d.Error("/options/first_plan_ms", "first_plan_ms must be -1 (automatic) or between 0 and "
                                       "3,600,000");
+  if (o.zone_proof_ms < -1 || o.zone_proof_ms > 3600 * 1000)
+    d.Error("/options/zone_proof_ms", "zone_proof_ms must be -1 (automatic) or between 0 and "
+                                      "3,600,000");
   if (o.portfolio < 1 || o.portfolio > 3)
     d.Error("/options/portfolio", "portfolio must be 1, 2 or 3");
   if (d.ok()) return std::nullopt;
@@ -256,7 +259,9 @@ std::variant<SolveResult, Error> SolveFixed(const Domain& d, const StatePlan& sp
   }
   bool by_zones = false;
   if (incumbent && !meets_bound && objective == Objective::kMakespan && !o.history) {
-    by_zones = RaiseBoundByZones(d, sp, o, *known_bounds, incumbent->makespan, t0, stats);
+    // On the domain analysed (forbidden transitions kept: more runs, still every plan's).
+    by_zones = RaiseBoundByZones(analysis ? *analysis : d, sp, o, *known_bounds,
+                                 incumbent->makespan, t0, stats);
     meets_bound = by_zones;
   }
   if (meets_bound) {
