@@ -3,6 +3,7 @@
 // plan meets them, and reported as `bound` when the time limit ends a search.
 #pragma once
 
+#include <atomic>
 #include <utility>
 #include <vector>
 
@@ -66,8 +67,9 @@ bool MeetsLowerBounds(const ObjectiveBounds& b, Objective objective, long cost, 
 // plan. Searched only for a state plan of a goal and a maintenance constraint
 // (RemainingTime::Applies) and at most 8 automata; otherwise the bound is returned as given.
 struct MakespanProofBudget {
-  long ms = 0;          // wall time for all the searches together
-  long states = 200000;  // symbolic states expanded, all searches together
+  long ms = 0;            // wall time for all the searches together
+  long states = 200000;   // symbolic states expanded, all searches together
+  const std::atomic<bool>* cancel = nullptr;  // set: stop at once (no proof)
 };
 struct MakespanProof {
   long makespan_ticks = 0;  // no plan reaches its goal earlier (at least the bound given)

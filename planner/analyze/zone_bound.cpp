@@ -30,7 +30,7 @@ MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long boun
   // own, which pays while the plan is a few hundred ticks long; beyond, dense zones (a fine time
   // resolution would make millions of them).
   q.whole_ticks = plan_ticks <= kMaxWholeTicks;
-  analysis::ZoneBudget b{budget.states, t0 + std::chrono::milliseconds(budget.ms)};
+  analysis::ZoneBudget b{budget.states, t0 + std::chrono::milliseconds(budget.ms), budget.cancel};
   // No run within `deadline`: proven, every plan ends later.
   auto refuted = [&](long deadline) {
     q.deadline = deadline;
@@ -45,7 +45,8 @@ MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long boun
   if (refuted(good)) {
     bad = good;
   } else {
-    while (good - bad > 1 && b.states > 0 && SteadyClock::now() < b.deadline) {
+    while (good - bad > 1 && b.states > 0 && SteadyClock::now() < b.deadline &&
+           !(budget.cancel && budget.cancel->load())) {
       const long mid = bad + (good - bad) / 2;
       if (refuted(mid))
         bad = mid;

@@ -14,6 +14,7 @@
 // searched.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -53,6 +54,7 @@ constexpr std::size_t kMaxZoneAutomata = 8;
 struct ZoneBudget {
   long states = 0;  // symbolic states left to expand
   std::chrono::steady_clock::time_point deadline;
+  const std::atomic<bool>* cancel = nullptr;  // set: stop as at the deadline (no proof)
 };
 
 Reach SearchZones(const Domain& d, const StatePlan& sp, const ZoneQuestion& q, ZoneBudget& budget);

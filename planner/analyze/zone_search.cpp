@@ -361,7 +361,8 @@ class Search {
   // One expansion may branch much (every subset of the automata moves): the deadline is read
   // every 256 branches, and once passed every search loop unwinds (Run says kUnknown).
   bool Spent() {
-    if (!spent_ && ++polls_ % 256 == 0 && std::chrono::steady_clock::now() > b_.deadline)
+    if (!spent_ && ++polls_ % 256 == 0 &&
+        (std::chrono::steady_clock::now() > b_.deadline || (b_.cancel && b_.cancel->load())))
       spent_ = true;
     return spent_;
   }

@@ -197,6 +197,7 @@ bool RaiseBoundByZones(const Domain& d, const StatePlan& sp, const SolveOptions&
                        Json& stats) {
   MakespanProofBudget budget;
   budget.ms = std::min(ZoneProofBudgetMs(o), o.time_limit_ms - MsSince(t0));
+  budget.cancel = o.cancel;
   if (budget.ms <= 0) return false;
   const long before = bounds.makespan_ticks;
   MakespanProof p = RaiseMakespanBound(d, sp, before, plan_ticks, budget);

@@ -8,6 +8,7 @@
 // Budgets are counted in states, never in time: the results do not depend on the machine.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -163,6 +164,11 @@ TEST(ZoneBound, ProvesAReStackingPlanOptimal) {
   const MakespanProof p = RaiseMakespanBound(*d, *sp, 6, 7, kBudget);
   EXPECT_EQ(p.makespan_ticks, 7);
   EXPECT_EQ(p.searches, 1);
+  // A cancelled solve (a client gone) stops the search: no proof, the bound as given.
+  std::atomic<bool> cancelled{true};
+  MakespanProofBudget stopped = kBudget;
+  stopped.cancel = &cancelled;
+  EXPECT_EQ(RaiseMakespanBound(*d, *sp, 6, 7, stopped).makespan_ticks, 6);
   SolveOptions o;
   o.objective = Objective::kMakespan;
   o.zone_proof_ms = 600000;  // the search ends by its states
