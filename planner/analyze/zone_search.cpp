@@ -286,6 +286,17 @@ class Search {
     return q_.deadline < 0 || z.AtMost(GC(), q_.deadline);
   }
 
+  // Constrains z to the valuations at which no automatic transition whose guard holds has
+  // passed its due time; false when none is left.
+  bool NothingPassedDue(const Stage& st, Dbm& z) const {
+    for (int a = 0; a < na_; ++a)
+      for (auto [t, g] : st.out[a]) {
+        const Transition& tr = d_.automata[a].transitions[t];
+        if (Urgent(tr, g) && !z.AtMost(AC(a), Ticks(tr.duration.lo))) return false;
+      }
+    return true;
+  }
+
   // The zones in which the next event may happen: after a delay that passes no due automatic
   // transition, or at once.
   std::vector<Dbm> Elapse(const Sym& s, const Stage& st) {
@@ -293,12 +304,7 @@ class Search {
     std::vector<Dbm> out;
     Dbm later = s.z;
     later.Up();
-    bool ok = Limits(s.s, st, later);
-    for (int a = 0; a < na_ && ok; ++a)
-      for (auto [t, g] : st.out[a]) {
-        const Transition& tr = d_.automata[a].transitions[t];
-        if (Urgent(tr, g) && !later.AtMost(AC(a), Ticks(tr.duration.lo))) ok = false;
-      }
+    const bool ok = Limits(s.s, st, later) && NothingPassedDue(st, later);
     if (ok) out.push_back(later);
     Dbm now = s.z;
     if (Limits(s.s, st, now) && !(ok && later.Includes(now))) out.push_back(now);
@@ -317,14 +323,9 @@ class Search {
     for (std::int64_t t = g + 1; t <= q_.deadline && !Spent(); ++t) {
       Dbm later = s.z;
       later.Up();
-      if (!later.AtLeast(GC(), t) || !later.AtMost(GC(), t) || !Limits(s.s, st, later)) break;
-      bool ok = true;
-      for (int a = 0; a < na_ && ok; ++a)
-        for (auto [tr_index, g2] : st.out[a]) {
-          const Transition& tr = d_.automata[a].transitions[tr_index];
-          if (Urgent(tr, g2) && !later.AtMost(AC(a), Ticks(tr.duration.lo))) ok = false;
-        }
-      if (!ok) break;
+      if (!later.AtLeast(GC(), t) || !later.AtMost(GC(), t) || !Limits(s.s, st, later) ||
+          !NothingPassedDue(st, later))
+        break;
       out.push_back(std::move(later));
     }
     return out;
