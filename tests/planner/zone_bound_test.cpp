@@ -18,6 +18,7 @@
 #include <variant>
 
 #include "planner/analyze/bounds.h"
+#include "planner/analyze/earliest.h"
 #include "planner/solve/solve.h"
 #include "exact_engine.h"
 #include "random_helpers.h"
@@ -55,6 +56,61 @@ void Check(const Domain& d, const StatePlan& sp, const std::string& what, Tally&
   EXPECT_LE(p.makespan_ticks, optimum) << what;
   ++t.compared;
   t.tight += p.makespan_ticks == optimum;
+}
+
+// The shipped assembly domain (2 arms, 3 blocks) with its race guards: an arm must not place onto
+// a block the arm numbered below is commanded to pick at that stage, and so on. The search reads
+// the command of the transition each arm takes; without that it would follow the races, whose
+// runs are shorter. A makespan state plan from these towers (block -> location).
+StatePlan Restack(const std::map<std::string, std::string>& from,
+                  const std::map<std::string, std::string>& to) {
+  Json j = testing::MustParse(R"({"initial_state": {"arm1": "home", "arm2": "home"},
+    "end_state": {"maintenance_constraint": "true", "goal_constraint": "true"},
+    "objective": "makespan"})");
+  std::string goal = "arm1[i+1]==home /\\ arm2[i+1]==home";
+  for (const auto& [b, l] : from) j["initial_state"]["block" + b] = l;
+  for (const auto& [b, l] : to) goal += " /\\ block" + b + "[i+1]==" + l;
+  j["end_state"]["goal_constraint"] = goal;
+  Diagnostics diags;
+  auto sp = LoadStatePlan(j, testing::ShippedDomain("assembly"), diags);
+  if (!sp) ADD_FAILURE() << testing::AllErrors(diags);
+  return sp ? *sp : StatePlan{};
+}
+
+// The estimate the search prunes with (RemainingTime, with its cached tables: distances, guards as
+// lists of atoms) from the initial state, every automaton just entered, is the earliest goal of
+// ComputeEarliestTimes: the same rules, the same settled arrivals.
+TEST(ZoneBound, TheRemainingTimeFromTheStartIsTheEarliestGoal) {
+  int compared = 0, positive = 0;
+  auto check = [&](const Domain& d, const StatePlan& sp, const std::string& what) {
+    if (!RemainingTime::Applies(sp)) return;
+    const auto e = ComputeEarliestTimes(d, sp);
+    ASSERT_TRUE(e) << what;
+    const long rest = RemainingTime(d, sp).Goal(sp.initial, std::vector<long>(d.automata.size(), 0));
+    EXPECT_EQ(rest, e->goal) << what;
+    ++compared;
+    positive += rest > 0;
+  };
+  for (unsigned seed = 100; seed < 130; ++seed) {
+    testing::RandomProblem p = testing::HelperProblemGenerator(seed).Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    auto sp = d ? LoadStatePlan(p.state_plan, *d, diags) : std::nullopt;
+    ASSERT_TRUE(sp) << testing::AllErrors(diags) << p.Describe();
+    check(*d, *sp, "helpers seed " + std::to_string(seed));
+  }
+  for (unsigned seed = 0; seed < 60; ++seed) {
+    testing::RandomProblem p = testing::ProblemGenerator(seed).Next();
+    Diagnostics diags;
+    auto d = LoadDomain(p.domain, diags);
+    auto sp = d ? LoadStatePlan(p.state_plan, *d, diags) : std::nullopt;
+    if (sp) check(*d, *sp, "random seed " + std::to_string(seed));
+  }
+  const Domain& assembly = testing::ShippedDomain("assembly");
+  check(assembly, Restack({{"A", "onB"}, {"B", "onC"}, {"C", "onFloor"}},
+                          {{"A", "onC"}, {"B", "onFloor"}, {"C", "onB"}}), "re-stacking");
+  EXPECT_GE(compared, 40);
+  EXPECT_GE(positive, 30);
 }
 
 TEST(ZoneBound, NeverAboveTheExactOptimumOfHelperProblems) {
@@ -102,25 +158,6 @@ TEST(ZoneBound, NeverAboveTheExactOptimumOfDevicesTakingTurns) {
   }
   EXPECT_GE(t.compared, 5);
   EXPECT_GE(t.tight, 3);
-}
-
-// The shipped assembly domain (2 arms, 3 blocks) with its race guards: an arm must not place onto
-// a block the arm numbered below is commanded to pick at that stage, and so on. The search reads
-// the command of the transition each arm takes; without that it would follow the races, whose
-// runs are shorter. A makespan state plan from these towers (block -> location).
-StatePlan Restack(const std::map<std::string, std::string>& from,
-                  const std::map<std::string, std::string>& to) {
-  Json j = testing::MustParse(R"({"initial_state": {"arm1": "home", "arm2": "home"},
-    "end_state": {"maintenance_constraint": "true", "goal_constraint": "true"},
-    "objective": "makespan"})");
-  std::string goal = "arm1[i+1]==home /\\ arm2[i+1]==home";
-  for (const auto& [b, l] : from) j["initial_state"]["block" + b] = l;
-  for (const auto& [b, l] : to) goal += " /\\ block" + b + "[i+1]==" + l;
-  j["end_state"]["goal_constraint"] = goal;
-  Diagnostics diags;
-  auto sp = LoadStatePlan(j, testing::ShippedDomain("assembly"), diags);
-  if (!sp) ADD_FAILURE() << testing::AllErrors(diags);
-  return sp ? *sp : StatePlan{};
 }
 
 TEST(ZoneBound, MeetsTheExactOptimumOfReStackingWithRaceGuards) {
