@@ -27,6 +27,10 @@ class Dbm {
   int Size() const { return n_; }
   bool Empty() const { return empty_; }
   Raw At(int i, int j) const { return m_[i * n_ + j]; }
+  // The least value x takes in the zone (its infimum, when the bound is strict) and the largest
+  // (kInfinity when none), read from its bounds against the reference clock.
+  std::int64_t Lower(int x) const { return -(At(0, x) >> 1); }
+  std::int64_t Upper(int x) const { return At(x, 0) >= kInfinity ? kInfinity : At(x, 0) >> 1; }
 
   // Let time pass: no upper bounds on clocks.
   void Up();

@@ -93,9 +93,7 @@ class Earliest {
 
   // The goal and the helpers' return from the state under way (no state-plan network).
   long GoalFromState() {
-    dwell_.assign(d_.automata.size(), {});
-    for (std::size_t a = 0; a < d_.automata.size(); ++a)
-      dwell_[a].assign(d_.automata[a].locations.size(), 0);
+    ComputeDwell();  // none: RemainingTime::Applies leaves no episode
     if (!SettleArrivals()) return 0;
     return std::max(GoalTime(), HelperReturnTime());
   }

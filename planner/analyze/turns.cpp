@@ -19,8 +19,8 @@ using Node = std::pair<int, int>;  // (automaton, location)
 constexpr long kNeverTurn = EarliestTimes::kNever;
 constexpr std::size_t kMaxTurnNodes = 512;  // locations taken into account, at most
 constexpr std::size_t kMaxCliqueStarts = 64;
-constexpr std::size_t kMaxTailSplits = 128;
-constexpr std::size_t kMaxPool = 10;  // jobs in a pool of at most k at once  // jobs on a clique for which every tail Q is tried
+constexpr std::size_t kMaxTailSplits = 128;  // jobs on a clique for which every tail Q is tried
+constexpr std::size_t kMaxPool = 10;          // jobs in a pool of at most k at once
 
 long AddTurn(long a, long b) { return std::min(kNeverTurn, a + b); }
 
@@ -91,28 +91,13 @@ struct Job {
 
 // k machines (at most k of the locations at once): goal >= r + p + q of each job, and
 // goal >= R + ceil(sum p / k) + Q over any set of jobs released at R or later with tails of at
-// least Q (their work fits between R and goal - Q on k machines).
-long ParallelBound(std::vector<Job> jobs, long k) {
+// least Q (their work fits between R and goal - Q on k machines). The best such set for each
+// least tail Q is a prefix of the jobs with q >= Q taken by release, latest first. Q is every
+// job's tail, or, beyond kMaxTailSplits jobs, the least one (all the jobs). One machine (k = 1)
+// is the preemptive bound: goal >= min r + sum p + min q.
+long PoolBound(std::vector<Job> jobs, long k) {
   long best = 0;
   for (const Job& j : jobs) best = std::max(best, AddTurn(AddTurn(j.r, j.p), j.q));
-  std::sort(jobs.begin(), jobs.end(), [](const Job& x, const Job& y) { return x.r > y.r; });
-  std::vector<long> tails = {0};
-  if (jobs.size() <= kMaxTailSplits)
-    for (const Job& j : jobs) tails.push_back(j.q);
-  for (long tail : tails) {
-    long sum = 0;
-    for (const Job& j : jobs) {
-      if (j.q < tail) continue;
-      sum = AddTurn(sum, j.p);
-      best = std::max(best, AddTurn(AddTurn(j.r, (sum + k - 1) / k), tail));
-    }
-  }
-  return best;
-}
-
-// goal >= min r + sum p + min q over any set of jobs; the best such set for each least tail Q is
-// a prefix of the jobs with q >= Q taken by release, latest first.
-long OneMachineBound(std::vector<Job> jobs) {
   std::sort(jobs.begin(), jobs.end(), [](const Job& x, const Job& y) { return x.r > y.r; });
   std::vector<long> tails;
   if (jobs.size() <= kMaxTailSplits)
@@ -120,13 +105,12 @@ long OneMachineBound(std::vector<Job> jobs) {
   else
     tails.push_back(std::min_element(jobs.begin(), jobs.end(),
                                      [](const Job& x, const Job& y) { return x.q < y.q; })->q);
-  long best = 0;
   for (long tail : tails) {
     long sum = 0;
     for (const Job& j : jobs) {
       if (j.q < tail) continue;
       sum = AddTurn(sum, j.p);
-      best = std::max(best, AddTurn(AddTurn(j.r, sum), tail));
+      best = std::max(best, AddTurn(AddTurn(j.r, (sum + k - 1) / k), tail));
     }
   }
   return best;
@@ -153,7 +137,7 @@ long BestOrder(const std::vector<Job>& jobs) {
 }
 
 long MachineBound(const std::vector<Job>& jobs) {
-  const long preemptive = OneMachineBound(jobs);
+  const long preemptive = PoolBound(jobs, 1);
   return jobs.size() <= kMaxExactJobs ? std::max(preemptive, BestOrder(jobs)) : preemptive;
 }
 
@@ -182,7 +166,7 @@ class Turns {
       std::vector<Job> on;
       for (const Node& n : pool) on.push_back(jobs_.at(n));
       ++out.machines;
-      const long b = ParallelBound(on, k);
+      const long b = PoolBound(on, k);
       if (b > out.makespan_ticks) out.makespan_ticks = b, out.jobs = static_cast<int>(on.size());
     }
     return out;

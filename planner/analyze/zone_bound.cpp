@@ -4,6 +4,7 @@
 // (a run within D is one within every later deadline), so the bound is found by bisection.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 #include "planner/analyze/bounds.h"
 #include "planner/analyze/zone_reach.h"
@@ -32,7 +33,7 @@ MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long boun
   q.whole_ticks = plan_ticks <= kMaxWholeTicks;
   analysis::ZoneBudget b{budget.states, t0 + std::chrono::milliseconds(budget.ms), budget.cancel};
   // No run within `deadline`: proven, every plan ends later.
-  auto refuted = [&](long deadline) {
+  auto refuted = [&](std::int64_t deadline) {
     q.deadline = deadline;
     ++out.searches;
     const long before = b.states;
@@ -41,20 +42,15 @@ MakespanProof RaiseMakespanBound(const Domain& d, const StatePlan& sp, long boun
     return no_run;
   };
   // The question that ends the search first: nothing within the plan's makespan less a tick.
-  long bad = bound_ticks - 1, good = plan_ticks - 1;  // bad: refuted (known); good: not shown
-  if (refuted(good)) {
+  std::int64_t bad = bound_ticks - 1, good = plan_ticks - 1;  // bad: refuted (known)
+  if (refuted(good))
     bad = good;
-  } else {
-    while (good - bad > 1 && b.states > 0 && SteadyClock::now() < b.deadline &&
-           !(budget.cancel && budget.cancel->load())) {
-      const long mid = bad + (good - bad) / 2;
-      if (refuted(mid))
-        bad = mid;
-      else
-        good = mid;
-    }
-  }
-  out.makespan_ticks = std::max(bound_ticks, bad + 1);
+  else
+    analysis::NarrowRefuted(bad, good, refuted, [&] {
+      return b.states > 0 && SteadyClock::now() < b.deadline &&
+             !(budget.cancel && budget.cancel->load());
+    });
+  out.makespan_ticks = std::max(bound_ticks, static_cast<long>(bad) + 1);
   out.ms = std::chrono::duration_cast<std::chrono::milliseconds>(SteadyClock::now() - t0).count();
   return out;
 }

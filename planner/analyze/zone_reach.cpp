@@ -106,13 +106,11 @@ class Conflict {
     const std::int64_t keep = bound;
     bound = good;
     const bool helps = !Refuted(q_);
-    while (helps && std::llabs(good - bad) > 1) {
-      bound = bad + (good - bad) / 2;
-      if (Refuted(q_))
-        bad = bound;
-      else
-        good = bound;
-    }
+    if (helps)
+      NarrowRefuted(bad, good, [&](std::int64_t v) {
+        bound = v;
+        return Refuted(q_);
+      });
     bound = keep;
     if (!helps) return std::nullopt;
     return good;
@@ -180,6 +178,18 @@ ZoneQuestion WholePlan(const Domain& d, const StatePlan& sp, bool clocks_known) 
   for (const auto& tc : sp.temporals)
     q.tc_lo.push_back(ticks(tc.lower)), q.tc_hi.push_back(ticks(tc.upper));
   return q;
+}
+
+void NarrowRefuted(std::int64_t& bad, std::int64_t& good,
+                   const std::function<bool(std::int64_t)>& refuted,
+                   const std::function<bool()>& more) {
+  while (std::llabs(good - bad) > 1 && (!more || more())) {
+    const std::int64_t mid = bad + (good - bad) / 2;
+    if (refuted(mid))
+      bad = mid;
+    else
+      good = mid;
+  }
 }
 
 std::optional<ZoneConflict> FindZoneConflict(const Domain& d, const StatePlan& sp,

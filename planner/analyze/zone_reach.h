@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,13 @@ struct ZoneBudget {
 };
 
 Reach SearchZones(const Domain& d, const StatePlan& sp, const ZoneQuestion& q, ZoneBudget& budget);
+
+// Bisection over a bound or deadline whose refutation is monotone (a tighter one keeps fewer
+// runs): `bad` is refuted, `good` is not shown to be (either may be the larger); narrows the two
+// until they are adjacent or `more` (when given) says stop.
+void NarrowRefuted(std::int64_t& bad, std::int64_t& good,
+                   const std::function<bool(std::int64_t)>& refuted,
+                   const std::function<bool()>& more = nullptr);
 
 struct ZoneConflict {
   std::vector<std::string> parts;  // a minimal set for the search

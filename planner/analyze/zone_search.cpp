@@ -319,7 +319,7 @@ class Search {
     std::vector<Dbm> out;
     Dbm now = s.z;
     if (Limits(s.s, st, now)) out.push_back(now);
-    const std::int64_t g = -(s.z.At(0, GC()) - 1) / 2;  // the valuation's time: -G <= -g
+    const std::int64_t g = s.z.Lower(GC());  // the valuation's time
     for (std::int64_t t = g + 1; t <= q_.deadline && !Spent(); ++t) {
       Dbm later = s.z;
       later.Up();
@@ -566,10 +566,10 @@ class Search {
     if (!rest_) return false;
     std::vector<long> since(na_);
     for (int a = 0; a < na_; ++a) {
-      const Dbm::Raw up = z.At(AC(a), 0);
-      since[a] = up >= Dbm::kInfinity ? (1L << 40) : static_cast<long>(up >> 1);
+      const std::int64_t up = z.Upper(AC(a));
+      since[a] = up >= Dbm::kInfinity ? (1L << 40) : static_cast<long>(up);
     }
-    const long now = -static_cast<long>(z.At(0, GC()) >> 1);  // G's lower bound
+    const long now = static_cast<long>(z.Lower(GC()));
     std::vector<long> key(s.loc.begin(), s.loc.end());
     key.insert(key.end(), since.begin(), since.end());
     if (rest_memo_.size() > 4 * static_cast<std::size_t>(MaxKept())) rest_memo_.clear();
